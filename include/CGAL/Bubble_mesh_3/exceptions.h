@@ -1,0 +1,42 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#ifndef CGAL_BUBBLE_MESH_3_EXCEPTIONS_H
+#define CGAL_BUBBLE_MESH_3_EXCEPTIONS_H
+
+#include <stdexcept>
+#include <string>
+
+namespace CGAL {
+namespace Bubble_mesh_3 {
+
+/// \ingroup PkgBubbleMesh3Ref
+/// Base of every error the package reports about its *input* (files, metrics,
+/// domains). Library code never asserts on user input: it throws one of these,
+/// and the command-line tool turns them into exit code 2.
+class Invalid_input : public std::runtime_error {
+public:
+  explicit Invalid_input(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// \ingroup PkgBubbleMesh3Ref
+/// A metric value that is not finite, not symmetric or not positive definite.
+/// The message names where the value came from (file and vertex, or point).
+class Invalid_metric : public Invalid_input {
+public:
+  explicit Invalid_metric(const std::string& what) : Invalid_input(what) {}
+};
+
+/// \ingroup PkgBubbleMesh3Ref
+/// A file that cannot be opened, is truncated, or does not follow its format.
+/// The message names the file and, where known, the line.
+class Invalid_file : public Invalid_input {
+public:
+  explicit Invalid_file(const std::string& what) : Invalid_input(what) {}
+};
+
+} // namespace Bubble_mesh_3
+} // namespace CGAL
+
+#endif // CGAL_BUBBLE_MESH_3_EXCEPTIONS_H
