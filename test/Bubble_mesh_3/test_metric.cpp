@@ -1,0 +1,237 @@
+// Tests of Metric_3 and of the constant and function metric fields.
+#include <CGAL/Bubble_mesh_3/Metric_3.h>
+#include <CGAL/Constant_metric_field_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Function_metric_field_3.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using CGAL::Bubble_mesh_3::Invalid_metric;
+using CGAL::Bubble_mesh_3::Metric_3;
+typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+typedef Metric_3::Matrix Matrix;
+typedef Metric_3::Vector Vector;
+
+Matrix random_spd(std::mt19937& rng, double spread = 3.0)
+{
+  std::uniform_real_distribution<double> u(-1, 1), logscale(-spread, spread);
+  Matrix a = Matrix::NullaryExpr([&]() { return u(rng); });
+  Eigen::HouseholderQR<Matrix> qr(a);
+  Matrix r = qr.householderQ();
+  Vector l(std::exp(logscale(rng)), std::exp(logscale(rng)), std::exp(logscale(rng)));
+  Matrix m = r * l.asDiagonal() * r.transpose();
+  return 0.5 * (m + m.transpose());
+}
+
+// Runs f, expects Invalid_metric whose message contains `needle`.
+template <typename F>
+void expect_invalid_metric(F f, const std::string& needle)
+{
+  try {
+    f();
+    FAIL() << "expected Invalid_metric containing '" << needle << "'";
+  } catch(const Invalid_metric& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(Metric3, DefaultIsIdentity)
+{
+  Metric_3 m;
+  EXPECT_EQ(m.matrix(), Matrix::Identity());
+  EXPECT_EQ(m.Q(), Matrix::Identity());
+  EXPECT_DOUBLE_EQ(m.length(Vector(3, 4, 0)), 5.0);
+}
+
+TEST(Metric3, FactorReproducesMatrixAndIsUpperWithPositiveDiagonal)
+{
+  std::mt19937 rng(1);
+  for(int i = 0; i < 200; ++i) {
+    Matrix a = random_spd(rng);
+    Metric_3 m(a);
+    const Matrix& q = m.Q();
+    EXPECT_LT((q.transpose() * q - a).norm(), 1e-12 * a.norm());
+    EXPECT_EQ(q(1, 0), 0.0);
+    EXPECT_EQ(q(2, 0), 0.0);
+    EXPECT_EQ(q(2, 1), 0.0);
+    for(int k = 0; k < 3; ++k)
+      EXPECT_GT(q(k, k), 0.0);
+    EXPECT_LT((m.Q_inverse() * q - Matrix::Identity()).norm(), 1e-10);
+    Vector v = Vector::Random();
+    EXPECT_NEAR(m.map(v).norm(), m.length(v), 1e-12 * (1 + m.length(v)));
+    EXPECT_NEAR(m.sqrt_determinant(), std::sqrt(a.determinant()), 1e-10 * std::sqrt(a.determinant()));
+  }
+}
+
+TEST(Metric3, DirectionsAndSizes)
+{
+  // u along (1,1,0)/sqrt2 with size 3, v along (-1,1,0)/sqrt2 size 1, w = z size 0.5
+  Matrix r;
+  r.col(0) = Vector(1, 1, 0).normalized();
+  r.col(1) = Vector(-1, 1, 0).normalized();
+  r.col(2) = Vector(0, 0, 1);
+  Metric_3 m = Metric_3::from_directions_and_sizes(r, Vector(3, 1, 0.5));
+  EXPECT_NEAR(m.length(3 * r.col(0)), 1.0, 1e-14);
+  EXPECT_NEAR(m.length(1 * r.col(1)), 1.0, 1e-14);
+  EXPECT_NEAR(m.length(0.5 * r.col(2)), 1.0, 1e-14);
+  Vector h = m.principal_sizes();
+  EXPECT_NEAR(h[0], 3.0, 1e-12);
+  EXPECT_NEAR(h[1], 1.0, 1e-12);
+  EXPECT_NEAR(h[2], 0.5, 1e-12);
+  Matrix d = m.principal_directions();
+  EXPECT_NEAR(std::abs(d.col(0).dot(r.col(0))), 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(d.col(2).dot(r.col(2))), 1.0, 1e-12);
+  EXPECT_NEAR(m.anisotropy_ratio(), 6.0, 1e-12);
+  // the paper's example: Q^{-1} maps the unit sphere to the ellipsoid with semi-axes h
+  Matrix qi = m.Q_inverse();
+  for(int k = 0; k < 3; ++k) {
+    Vector unit = Vector::Zero();
+    unit[k] = 1;
+    EXPECT_NEAR(m.length(qi * unit), 1.0, 1e-12);
+  }
+  // Non-orthogonal input directions are orthonormalised, keeping the first axis.
+  Matrix skew = r;
+  skew.col(1) += 0.01 * r.col(0);
+  Metric_3 ms = Metric_3::from_directions_and_sizes(skew, Vector(3, 1, 0.5));
+  EXPECT_NEAR(ms.length(3 * r.col(0)), 1.0, 1e-12);
+}
+
+TEST(Metric3, RejectsInvalidMatrices)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  expect_invalid_metric([&] { Metric_3::from_entries(1, 0, 0, nan, 0, 1, "bg.sol, vertex 7"); },
+                        "bg.sol, vertex 7: metric has a NaN");
+  expect_invalid_metric([&] { Metric_3::from_entries(1, 0, 0, 1, inf, 1); }, "NaN or infinite");
+  Matrix nonsym = Matrix::Identity();
+  nonsym(0, 1) = 0.5;
+  expect_invalid_metric([&] { Metric_3 m(nonsym, "here"); }, "here: metric is not symmetric");
+  expect_invalid_metric([&] { Metric_3::from_entries(1, 2, 0, 1, 0, 1); }, "not positive definite");
+  expect_invalid_metric([&] { Metric_3::from_entries(1, 0, 0, 0, 0, 1); }, "not positive definite");
+  expect_invalid_metric([&] { Metric_3::from_entries(-1, 0, 0, -1, 0, -1); }, "not positive definite");
+  expect_invalid_metric([&] { Metric_3::from_entries(0, 0, 0, 0, 0, 0); }, "zero matrix");
+  expect_invalid_metric([&] { Metric_3::from_entries(1e13, 0, 0, 1, 0, 1); }, "too anisotropic");
+  EXPECT_NO_THROW(Metric_3::from_entries(1e11, 0, 0, 1, 0, 1));
+  expect_invalid_metric([&] { Metric_3::isotropic(0); }, "isotropic size");
+  expect_invalid_metric([&] { Metric_3::isotropic(nan); }, "isotropic size");
+  Matrix r = Matrix::Identity();
+  expect_invalid_metric([&] { Metric_3::from_directions_and_sizes(r, Vector(1, -1, 1)); }, "principal size 1");
+  Matrix flat = Matrix::Identity();
+  flat.col(2) = flat.col(1);
+  expect_invalid_metric([&] { Metric_3::from_directions_and_sizes(flat, Vector(1, 1, 1)); }, "independent");
+}
+
+TEST(Metric3, LogExpRoundTrip)
+{
+  std::mt19937 rng(2);
+  for(int i = 0; i < 100; ++i) {
+    Matrix a = random_spd(rng);
+    Metric_3 m(a);
+    Metric_3 back = Metric_3::exp(m.log());
+    EXPECT_LT((back.matrix() - a).norm(), 1e-11 * a.norm());
+  }
+}
+
+TEST(Metric3, LogEuclideanInterpolation)
+{
+  Metric_3 a = Metric_3::isotropic(1.0), b = Metric_3::isotropic(4.0);
+  std::vector<Metric_3> ms{a, b};
+  // exact at the data points
+  EXPECT_EQ(CGAL::Bubble_mesh_3::log_euclidean_interpolation(ms, std::vector<double>{1, 0}), a);
+  EXPECT_EQ(CGAL::Bubble_mesh_3::log_euclidean_interpolation(ms, std::vector<double>{0, 2}), b);
+  // midpoint of isotropic sizes 1 and 4 is the geometric mean, 2 (linear would give sqrt(2/(1+1/16)))
+  Metric_3 mid = CGAL::Bubble_mesh_3::log_euclidean_interpolation(ms, std::vector<double>{0.5, 0.5});
+  EXPECT_NEAR(mid.principal_sizes()[0], 2.0, 1e-12);
+  EXPECT_NEAR(mid.principal_sizes()[2], 2.0, 1e-12);
+  // determinant is the weighted geometric mean for general metrics
+  std::mt19937 rng(3);
+  for(int i = 0; i < 50; ++i) {
+    std::vector<Metric_3> three{Metric_3(random_spd(rng)), Metric_3(random_spd(rng)), Metric_3(random_spd(rng))};
+    std::vector<double> w{0.2, 0.3, 0.5};
+    Metric_3 m = CGAL::Bubble_mesh_3::log_euclidean_interpolation(three, w);
+    double expected_log_det = 0;
+    for(int k = 0; k < 3; ++k)
+      expected_log_det += w[k] * std::log(three[k].determinant());
+    EXPECT_NEAR(std::log(m.determinant()), expected_log_det, 1e-10);
+  }
+  EXPECT_THROW(CGAL::Bubble_mesh_3::log_euclidean_interpolation(ms, std::vector<double>{0, 0}),
+               CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(CGAL::Bubble_mesh_3::log_euclidean_interpolation(ms, std::vector<double>{-1, 2}),
+               CGAL::Bubble_mesh_3::Invalid_input);
+}
+
+TEST(Metric3, Intersection)
+{
+  using CGAL::Bubble_mesh_3::intersection;
+  Metric_3 a = Metric_3::isotropic(1.0), b = Metric_3::isotropic(0.25);
+  EXPECT_LT((intersection(a, b).matrix() - b.matrix()).norm(), 1e-12);
+  EXPECT_LT((intersection(b, a).matrix() - b.matrix()).norm(), 1e-12);
+  // two orthogonal stretchings: the intersection asks for the small size in both directions
+  Metric_3 x = Metric_3::from_entries(1, 0, 0, 100, 0, 1), y = Metric_3::from_entries(100, 0, 0, 1, 0, 1);
+  Matrix expected = Vector(100, 100, 1).asDiagonal();
+  EXPECT_LT((intersection(x, y).matrix() - expected).norm(), 1e-10);
+  std::mt19937 rng(4);
+  for(int i = 0; i < 100; ++i) {
+    Metric_3 p(random_spd(rng)), q(random_spd(rng));
+    Metric_3 pq = intersection(p, q), qp = intersection(q, p);
+    EXPECT_LT((pq.matrix() - qp.matrix()).norm(), 1e-9 * pq.matrix().norm());
+    EXPECT_LT((intersection(p, p).matrix() - p.matrix()).norm(), 1e-9 * p.matrix().norm());
+    // the intersected unit ball lies inside both unit balls
+    for(int k = 0; k < 20; ++k) {
+      Vector v = Vector::Random();
+      EXPECT_GE(pq.length(v) * (1 + 1e-9), std::max(p.length(v), q.length(v)));
+    }
+  }
+}
+
+TEST(MetricFields, Constant)
+{
+  CGAL::Constant_metric_field_3<K> identity;
+  EXPECT_EQ(identity(K::Point_3(1, 2, 3)).matrix(), Matrix::Identity());
+  auto iso = CGAL::Constant_metric_field_3<K>::isotropic(0.5);
+  EXPECT_DOUBLE_EQ(iso(K::Point_3(0, 0, 0))(0, 0), 4.0);
+  Matrix bad = Matrix::Identity();
+  bad(2, 2) = -1;
+  expect_invalid_metric([&] { CGAL::Constant_metric_field_3<K> f(bad); }, "constant metric");
+}
+
+TEST(MetricFields, FunctionReturningMatrix)
+{
+  auto field = CGAL::make_function_metric_field_3<K>([](const K::Point_3& p) {
+    Matrix m = Matrix::Identity();
+    m(0, 0) = 1 + p.x() * p.x(); // graded along x
+    return m;
+  });
+  EXPECT_DOUBLE_EQ(field(K::Point_3(2, 0, 0))(0, 0), 5.0);
+  EXPECT_DOUBLE_EQ(field(K::Point_3(2, 0, 0))(1, 1), 1.0);
+}
+
+TEST(MetricFields, FunctionReturningMetric)
+{
+  auto field = CGAL::make_function_metric_field_3<K>(
+      [](const K::Point_3& p) { return Metric_3::isotropic(1 + std::abs(p.z())); });
+  EXPECT_DOUBLE_EQ(field(K::Point_3(0, 0, 1))(1, 1), 0.25);
+}
+
+TEST(MetricFields, FunctionValidatesEveryValueAndNamesThePoint)
+{
+  auto field = CGAL::make_function_metric_field_3<K>([](const K::Point_3& p) {
+    Matrix m = Matrix::Identity();
+    m(1, 1) = p.y() > 0 ? std::numeric_limits<double>::quiet_NaN() : 1.0;
+    m(2, 2) = p.x() > 0 ? -1.0 : 1.0;
+    return m;
+  });
+  EXPECT_NO_THROW(field(K::Point_3(-1, -1, 0)));
+  expect_invalid_metric([&] { field(K::Point_3(-1, 2.5, 0)); }, "point (-1 2.5 0)");
+  expect_invalid_metric([&] { field(K::Point_3(3, -1, 0)); }, "not positive definite");
+}
+
+} // namespace
