@@ -7,6 +7,8 @@
 
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/enum.h>
 #include <CGAL/number_utils.h>
 
 #include <Eigen/Dense>
@@ -37,7 +39,11 @@
 ///   orientation of the tet (an inverted tet has the angles of its mirror
 ///   image); use `CGAL::orientation` (exact) to detect inverted tets.
 /// - a flat tet (four coplanar points, or a degenerate face) has minimum
-///   dihedral angle 0, radius ratio 0 and mean ratio 0, never NaN.
+///   dihedral angle 0, radius ratio 0 and mean ratio 0, never NaN. When a
+///   floating-point result is small enough to come from rounding, exact
+///   coplanarity of the (double) input points is decided with Epick's exact
+///   `CGAL::orientation`, so exactly flat tets give exactly 0 even after the
+///   mapping by `Q`; their six angles are then exactly 0 or 180.
 /// - signed volumes are positive when `CGAL::orientation(p0, p1, p2, p3)`
 ///   is `CGAL::POSITIVE`, i.e. `(p1-p0) . ((p2-p0) x (p3-p0)) > 0`.
 ///
@@ -160,6 +166,48 @@ inline double mean_ratio_of_edge_vectors(const Eigen::Vector3d& a, const Eigen::
   return std::min(12 * std::cbrt(three_v * three_v) / sum_l2, 1.0);
 }
 
+/// Below these values a result may be rounding noise of a flat tet: the
+/// exact coplanarity test decides.
+constexpr double suspicious_angle_degrees() { return 1e-4; }
+constexpr double suspicious_ratio() { return 1e-6; }
+
+/// exact: the four points (as doubles) are coplanar
+inline bool is_exactly_coplanar(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                                const Eigen::Vector3d& p3)
+{
+  typedef CGAL::Exact_predicates_inexact_constructions_kernel::Point_3 Point;
+  return CGAL::orientation(Point(p0[0], p0[1], p0[2]), Point(p1[0], p1[1], p1[2]), Point(p2[0], p2[1], p2[2]),
+                           Point(p3[0], p3[1], p3[2])) == CGAL::COPLANAR;
+}
+
+/// snaps the angles of an exactly flat tet to 0 or 180
+inline std::array<double, 6> snap_flat_angles(std::array<double, 6> angles, const Eigen::Vector3d& p0,
+                                              const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                                              const Eigen::Vector3d& p3)
+{
+  const double smallest = *std::min_element(angles.begin(), angles.end());
+  if(smallest < suspicious_angle_degrees() && is_exactly_coplanar(p0, p1, p2, p3))
+    for(double& a : angles)
+      a = a < 90 ? 0.0 : 180.0;
+  return angles;
+}
+
+inline double snap_flat_angle(double smallest, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                              const Eigen::Vector3d& p2, const Eigen::Vector3d& p3)
+{
+  if(smallest < suspicious_angle_degrees() && smallest > 0 && is_exactly_coplanar(p0, p1, p2, p3))
+    return 0;
+  return smallest;
+}
+
+inline double snap_flat_ratio(double ratio, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                              const Eigen::Vector3d& p2, const Eigen::Vector3d& p3)
+{
+  if(ratio < suspicious_ratio() && ratio > 0 && is_exactly_coplanar(p0, p1, p2, p3))
+    return 0;
+  return ratio;
+}
+
 } // namespace internal
 
 /// \ingroup PkgBubbleMesh3Functions
@@ -187,7 +235,8 @@ inline double metric_signed_volume(const Eigen::Vector3d& p0, const Eigen::Vecto
 inline std::array<double, 6> dihedral_angles(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                                              const Eigen::Vector3d& p2, const Eigen::Vector3d& p3)
 {
-  return internal::dihedral_angles_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0);
+  return internal::snap_flat_angles(internal::dihedral_angles_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0), p0, p1,
+                                    p2, p3);
 }
 
 /// the six dihedral angles, in degrees, after mapping the vertices by `Q`
@@ -198,9 +247,10 @@ inline std::array<double, 6> metric_dihedral_angles(const Eigen::Vector3d& p0, c
                                                     const Metric_3& m)
 {
   const Eigen::Matrix3d& q = m.Q();
-  return internal::dihedral_angles_of_edge_vectors(internal::map_by_upper(q, p1 - p0),
-                                                   internal::map_by_upper(q, p2 - p0),
-                                                   internal::map_by_upper(q, p3 - p0));
+  return internal::snap_flat_angles(
+      internal::dihedral_angles_of_edge_vectors(internal::map_by_upper(q, p1 - p0), internal::map_by_upper(q, p2 - p0),
+                                                internal::map_by_upper(q, p3 - p0)),
+      p0, p1, p2, p3);
 }
 
 /// smallest Euclidean dihedral angle, in degrees: `acos(1/3) = 70.53` for the
@@ -208,7 +258,8 @@ inline std::array<double, 6> metric_dihedral_angles(const Eigen::Vector3d& p0, c
 inline double minimum_dihedral_angle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                                      const Eigen::Vector3d& p3)
 {
-  return internal::minimum_dihedral_angle_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0);
+  return internal::snap_flat_angle(internal::minimum_dihedral_angle_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0), p0,
+                                   p1, p2, p3);
 }
 
 /// smallest dihedral angle in the metric `m`, in degrees (the paper's
@@ -217,9 +268,11 @@ inline double metric_minimum_dihedral_angle(const Eigen::Vector3d& p0, const Eig
                                             const Eigen::Vector3d& p2, const Eigen::Vector3d& p3, const Metric_3& m)
 {
   const Eigen::Matrix3d& q = m.Q();
-  return internal::minimum_dihedral_angle_of_edge_vectors(internal::map_by_upper(q, p1 - p0),
-                                                          internal::map_by_upper(q, p2 - p0),
-                                                          internal::map_by_upper(q, p3 - p0));
+  return internal::snap_flat_angle(
+      internal::minimum_dihedral_angle_of_edge_vectors(internal::map_by_upper(q, p1 - p0),
+                                                       internal::map_by_upper(q, p2 - p0),
+                                                       internal::map_by_upper(q, p3 - p0)),
+      p0, p1, p2, p3);
 }
 
 /// Euclidean radius ratio `3 r / R` (inradius over circumradius, normalised):
@@ -227,7 +280,7 @@ inline double metric_minimum_dihedral_angle(const Eigen::Vector3d& p0, const Eig
 inline double radius_ratio(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                            const Eigen::Vector3d& p3)
 {
-  return internal::radius_ratio_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0);
+  return internal::snap_flat_ratio(internal::radius_ratio_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0), p0, p1, p2, p3);
 }
 
 /// radius ratio `3 r / R` in the metric `m`
@@ -235,9 +288,10 @@ inline double metric_radius_ratio(const Eigen::Vector3d& p0, const Eigen::Vector
                                   const Eigen::Vector3d& p3, const Metric_3& m)
 {
   const Eigen::Matrix3d& q = m.Q();
-  return internal::radius_ratio_of_edge_vectors(internal::map_by_upper(q, p1 - p0),
-                                                internal::map_by_upper(q, p2 - p0),
-                                                internal::map_by_upper(q, p3 - p0));
+  return internal::snap_flat_ratio(
+      internal::radius_ratio_of_edge_vectors(internal::map_by_upper(q, p1 - p0), internal::map_by_upper(q, p2 - p0),
+                                             internal::map_by_upper(q, p3 - p0)),
+      p0, p1, p2, p3);
 }
 
 /// Euclidean mean ratio `12 (3|V|)^(2/3) / sum of the six squared edge
@@ -245,7 +299,7 @@ inline double metric_radius_ratio(const Eigen::Vector3d& p0, const Eigen::Vector
 inline double mean_ratio(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                          const Eigen::Vector3d& p3)
 {
-  return internal::mean_ratio_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0);
+  return internal::snap_flat_ratio(internal::mean_ratio_of_edge_vectors(p1 - p0, p2 - p0, p3 - p0), p0, p1, p2, p3);
 }
 
 /// mean ratio in the metric `m`
@@ -253,9 +307,10 @@ inline double metric_mean_ratio(const Eigen::Vector3d& p0, const Eigen::Vector3d
                                 const Eigen::Vector3d& p3, const Metric_3& m)
 {
   const Eigen::Matrix3d& q = m.Q();
-  return internal::mean_ratio_of_edge_vectors(internal::map_by_upper(q, p1 - p0),
-                                              internal::map_by_upper(q, p2 - p0),
-                                              internal::map_by_upper(q, p3 - p0));
+  return internal::snap_flat_ratio(
+      internal::mean_ratio_of_edge_vectors(internal::map_by_upper(q, p1 - p0), internal::map_by_upper(q, p2 - p0),
+                                           internal::map_by_upper(q, p3 - p0)),
+      p0, p1, p2, p3);
 }
 
 /// @}

@@ -7,6 +7,7 @@
 
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/IO/write_file_atomically.h>
 
 #include <algorithm>
 #include <array>
@@ -37,10 +38,6 @@ namespace internal {
 // a whitespace/comment tolerant tokenizer over a file held in memory, fast
 // number formatting, and the "write to a temporary file, then rename" rule.
 
-inline std::string errno_text(int e)
-{
-  return e == 0 ? std::string("unknown error") : std::string(std::strerror(e));
-}
 
 // Whole stream into memory (the readers parse from a buffer: no per-token
 // allocation). `name` is only used in messages.
@@ -69,7 +66,7 @@ inline std::string read_file_to_string(const std::string& path)
 {
   std::ifstream is(path, std::ios::binary);
   if(!is)
-    throw Invalid_file(path + ":0: cannot open file for reading (" + errno_text(errno) + ")");
+    throw Invalid_file(path + ": cannot open file for reading (" + errno_text(errno) + ")");
   std::string buffer;
   is.seekg(0, std::ios::end);
   const std::streamoff size = is.tellg();
@@ -78,7 +75,7 @@ inline std::string read_file_to_string(const std::string& path)
     buffer.resize(static_cast<std::size_t>(size));
     is.read(&buffer[0], static_cast<std::streamsize>(size));
     if(is.bad() || is.gcount() != static_cast<std::streamsize>(size))
-      throw Invalid_file(path + ":0: read error");
+      throw Invalid_file(path + ": read error");
     return buffer;
   }
   is.clear();
@@ -109,9 +106,9 @@ public:
   bool next(std::string_view& token)
   {
     skip_blanks();
-    token_line_ = line_;
     if(p_ == end_)
-      return false;
+      return false; // errors at the end of input name the last token's line
+    token_line_ = line_;
     const char* b = p_;
     while(p_ != end_ && !is_separator(*p_))
       ++p_;
@@ -140,7 +137,7 @@ public:
     if(r.ec == std::errc::result_out_of_range && r.ptr == e)
       fail("number '" + shown(token) + "' out of the double range in " + what);
     if(r.ec != std::errc() || r.ptr != e)
-      fail("expected a number for " + std::string(what) + ", got '" + shown(token) + "'");
+      fail_not_a_number(token, what);
     return value;
   }
 
@@ -154,8 +151,16 @@ public:
     long long value = 0;
     const std::from_chars_result r = std::from_chars(b, e, value);
     if(r.ec != std::errc() || r.ptr != e)
-      fail("expected an integer for " + std::string(what) + ", got '" + shown(token) + "'");
+      fail_not_a_number(token, what, "an integer");
     return value;
+  }
+
+  [[noreturn]] void fail_not_a_number(std::string_view token, const char* what, const char* kind = "a number") const
+  {
+    if(is_keyword(token))
+      fail(std::string(what) + " ends early: expected " + kind + ", got keyword '" + shown(token) +
+           "' (fewer entries than announced, truncated section?)");
+    fail("expected " + std::string(kind) + " for " + what + ", got '" + shown(token) + "'");
   }
 
   int read_int(const char* what)
@@ -186,7 +191,7 @@ public:
   {
     const long long v = read_integer(what);
     if(v < 1 || static_cast<unsigned long long>(v) > n)
-      fail(std::string(what) + " " + std::to_string(entry) + ": vertex index " + std::to_string(v) +
+      fail(std::string(what) + " entry " + std::to_string(entry) + ": vertex index " + std::to_string(v) +
            " out of range [1, " + std::to_string(n) + "]");
     return static_cast<int>(v - 1);
   }
@@ -322,49 +327,6 @@ private:
   std::string buffer_;
 };
 
-inline std::string unique_suffix()
-{
-  static std::atomic<unsigned long long> counter(0);
-  std::random_device rd;
-  const unsigned long long a = (static_cast<unsigned long long>(rd()) << 32) ^ rd();
-  const unsigned long long b = static_cast<unsigned long long>(
-                                 std::chrono::steady_clock::now().time_since_epoch().count()) ^
-                               (counter.fetch_add(1) << 48);
-  char tmp[40];
-  std::snprintf(tmp, sizeof(tmp), "%016llx", a ^ b);
-  return tmp;
-}
-
-// Writes through `write(std::ostream&)` into a temporary file next to `path`
-// and renames it to `path` only when everything was written: a failed or
-// interrupted write never leaves a partial file under the final name.
-template <typename Write>
-void write_file_atomically(const std::string& path, Write&& write)
-{
-  const std::string tmp = path + "." + unique_suffix() + ".tmp";
-  std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-  if(!os)
-    throw Invalid_file(path + ": cannot create file " + tmp + " (" + errno_text(errno) + ")");
-  try {
-    write(static_cast<std::ostream&>(os));
-    os.flush();
-    if(!os)
-      throw Invalid_file(path + ": write error (" + errno_text(errno) + ", disk full?)");
-    os.close();
-    if(os.fail())
-      throw Invalid_file(path + ": error while closing " + tmp + " (" + errno_text(errno) + ")");
-  } catch(...) {
-    if(os.is_open())
-      os.close();
-    std::remove(tmp.c_str());
-    throw;
-  }
-  if(std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    throw Invalid_file(path + ": cannot rename " + tmp + " to it (" + errno_text(e) + ")");
-  }
-}
 
 // Number of integers per record of the MEDIT sections we read past.
 inline int skipped_section_record_size(std::string_view keyword)
@@ -438,7 +400,7 @@ inline Indexed_tet_mesh_3 parse_medit(const char* begin, const char* end, const 
         for(int k = 0; k < 3; ++k) {
           p[k] = in.read_double("Vertices");
           if(!std::isfinite(p[k]))
-            in.fail("Vertices " + std::to_string(i + 1) + ": coordinate is not finite");
+            in.fail("Vertices entry " + std::to_string(i + 1) + ": coordinate is not finite");
         }
         mesh.point_refs[i] = in.read_int("Vertices");
       }
@@ -569,7 +531,7 @@ inline Indexed_tet_mesh_3 read_medit(std::istream& is, const std::string& name_f
 
 /// \ingroup PkgBubbleMesh3IO
 /// Reads the MEDIT `.mesh` file `path` (see the stream overload). A file that
-/// cannot be opened throws `Invalid_file` (`path:0: cannot open ...`).
+/// cannot be opened throws `Invalid_file` (`path: cannot open ...`).
 inline Indexed_tet_mesh_3 read_medit(const std::string& path)
 {
   const std::string buffer = internal::read_file_to_string(path);
@@ -632,7 +594,7 @@ inline void write_medit(std::ostream& os, const Indexed_tet_mesh_3& mesh)
 inline void write_medit(const std::string& path, const Indexed_tet_mesh_3& mesh)
 {
   internal::check_mesh_for_writing(mesh);
-  internal::write_file_atomically(path, [&mesh](std::ostream& os) { write_medit(os, mesh); });
+  write_file_atomically(path, [&mesh](std::ostream& os) { write_medit(os, mesh); });
 }
 
 } // namespace IO
