@@ -137,7 +137,15 @@ TEST(Metric3, LogExpRoundTrip)
     Metric_3 m(a);
     Metric_3 back = Metric_3::exp(m.log());
     EXPECT_LT((back.matrix() - a).norm(), 1e-11 * a.norm());
+    EXPECT_LT((back.Q().transpose() * back.Q() - back.matrix()).norm(), 1e-12 * a.norm());
   }
+  // exp keeps the anisotropy bound: e^30 ~ 1.1e13 > 1e12 is refused, e^27 accepted
+  Matrix l = Vector(30, 0, 0).asDiagonal();
+  expect_invalid_metric([&] { Metric_3::exp(l); }, "too anisotropic");
+  l(0, 0) = 27;
+  EXPECT_NO_THROW(Metric_3::exp(l));
+  l(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  expect_invalid_metric([&] { Metric_3::exp(l); }, "not finite");
 }
 
 TEST(Metric3, LogEuclideanInterpolation)

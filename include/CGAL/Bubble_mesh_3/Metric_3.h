@@ -194,15 +194,27 @@ public:
     return r * l.array().log().matrix().asDiagonal() * r.transpose();
   }
 
-  /// matrix exponential of a symmetric matrix: always SPD
+  /// matrix exponential of a symmetric matrix: always SPD. Only the
+  /// anisotropy bound can fail, which is checked on the eigenvalues at hand
+  /// (this is the hot path of interpolated fields: one eigen solve, one LLT).
   static Metric_3 exp(const Matrix& symmetric, const std::string& where = std::string())
   {
     if(!symmetric.allFinite())
       throw Invalid_metric(prefix(where) + "logarithm of the metric is not finite");
     Eigen::SelfAdjointEigenSolver<Matrix> es(0.5 * (symmetric + symmetric.transpose()));
+    const Vector& l = es.eigenvalues(); // ascending
+    if(!(l[2] - l[0] <= std::log(maximum_eigenvalue_ratio())) || !(std::abs(l[2]) < 700 && std::abs(l[0]) < 700))
+      throw Invalid_metric(prefix(where) + "metric is too anisotropic or out of range: log-eigenvalues " +
+                           to_string(l[0]) + " .. " + to_string(l[2]));
     const Matrix& r = es.eigenvectors();
-    Matrix m = r * es.eigenvalues().array().exp().matrix().asDiagonal() * r.transpose();
-    return Metric_3(Matrix(0.5 * (m + m.transpose())), where);
+    Matrix m = r * l.array().exp().matrix().asDiagonal() * r.transpose();
+    Metric_3 result;
+    result.m_ = 0.5 * (m + m.transpose());
+    Eigen::LLT<Matrix> llt(result.m_);
+    if(llt.info() != Eigen::Success)
+      throw Invalid_metric(prefix(where) + "exponential is not positive definite " + to_string(result.m_));
+    result.q_ = llt.matrixU();
+    return result;
   }
 
   bool operator==(const Metric_3& other) const { return m_ == other.m_; }
