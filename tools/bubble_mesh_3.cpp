@@ -119,6 +119,13 @@ double parse_number(const std::string& text, const std::string& what)
   return v;
 }
 
+// The last component of a path (descriptions stay short in plots and summaries).
+std::string file_name(const std::string& path)
+{
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
 // The metric field chosen on the command line. Kept behind one small
 // interface so that every subcommand evaluates the same way.
 class Command_line_metric {
@@ -150,7 +157,8 @@ public:
         throw Usage_error("--metric-mesh and --metric-sol go together");
       m.interpolated_.emplace(
           CGAL::Interpolated_metric_field_3<K>::from_files(o.get("--metric-mesh"), o.get("--metric-sol")));
-      m.description_ = "interpolated from " + o.get("--metric-mesh") + " + " + o.get("--metric-sol");
+      m.description_ = "interpolated from " + file_name(o.get("--metric-mesh")) + " + " +
+                       file_name(o.get("--metric-sol"));
     } else {
       m.description_ = "identity";
     }
