@@ -10,6 +10,7 @@
 #include <CGAL/Bubble_mesh_3/Quality_report.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/metric_quality.h>
+#include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interpolated_metric_field_3.h>
@@ -38,10 +39,12 @@ const char* const usage_text =
     "\n"
     "Usage:\n"
     "  bubble_mesh_3 eval MESH.mesh [METRIC] [--report R.json] [--vtu OUT.vtu]\n"
-    "                [--histogram H.svg] [--title TEXT] [--quiet]\n"
+    "                [--histogram H.svg] [--title TEXT] [--quiet] [--require-valid]\n"
     "      Quality report of any tetrahedral mesh in MEDIT format (also from TetGen\n"
     "      or CGAL Mesh_3): metric minimum dihedral angles (worst, 1st percentile,\n"
-    "      mean, 5-degree histogram), metric edge lengths, inverted tets, volume.\n"
+    "      mean, 5-degree histogram), metric edge lengths, inverted tets, volume,\n"
+    "      and validity (orientation, conformity, boundary, volume identity).\n"
+    "      --require-valid exits with 2 when the mesh is not valid.\n"
     "      --report writes it as JSON, --vtu writes the mesh with per-tet quality,\n"
     "      --histogram writes an SVG histogram.\n"
     "  bubble_mesh_3 convert IN.mesh OUT.{vtu,mesh}\n"
@@ -191,7 +194,7 @@ int run_eval(int argc, char** argv)
   const Options o = parse_options(argc, argv, 2,
                                   {"--size", "--metric-const", "--metric-mesh", "--metric-sol", "--report",
                                    "--vtu", "--histogram", "--title"},
-                                  {"--quiet"});
+                                  {"--quiet", "--require-valid"});
   if(o.positional.size() != 1)
     throw Usage_error("eval needs exactly one MESH.mesh argument (see bubble_mesh_3 --help)");
   const std::string mesh_path = o.positional[0];
@@ -204,11 +207,19 @@ int run_eval(int argc, char** argv)
       metric.visit([&](const auto& field) { return CGAL::Bubble_mesh_3::compute_quality_report(mesh, field); });
   report.metric_description = metric.description();
 
-  if(!o.has("--quiet"))
+  CGAL::Bubble_mesh_3::Validity_options validity_options;
+  validity_options.allow_unused_vertices = true;     // reported, not fatal, when evaluating
+  validity_options.allow_duplicate_triangles = true; // CGAL's output_to_medit lists each facet twice
+  const CGAL::Bubble_mesh_3::Validity_report validity = CGAL::Bubble_mesh_3::check_validity(mesh, validity_options);
+
+  if(!o.has("--quiet")) {
     CGAL::Bubble_mesh_3::print_quality_summary(std::cout, report);
+    CGAL::Bubble_mesh_3::print_validity_summary(std::cout, validity);
+  }
   if(o.has("--report")) {
-    const std::string path = o.get("--report");
-    BIO::write_text_file(path, CGAL::Bubble_mesh_3::to_json(report) + "\n");
+    std::string json = CGAL::Bubble_mesh_3::to_json(report);
+    json.insert(json.rfind("\n}"), ",\n  \"validity\": " + CGAL::Bubble_mesh_3::to_json(validity));
+    BIO::write_text_file(o.get("--report"), json + "\n");
   }
   if(o.has("--histogram")) {
     const std::string title = o.has("--title") ? o.get("--title") : mesh_path;
@@ -219,6 +230,9 @@ int run_eval(int argc, char** argv)
         [&](const auto& field) { return CGAL::Bubble_mesh_3::metric_minimum_dihedral_angles(mesh, field); });
     BIO::write_vtu(o.get("--vtu"), mesh, {{"min_dihedral", quality}});
   }
+  if(o.has("--require-valid") && !validity.is_valid())
+    throw Invalid_input(mesh_path + ": invalid mesh, " + std::to_string(validity.number_of_problems) +
+                        " problem(s); first: " + validity.problems.front());
   return 0;
 }
 

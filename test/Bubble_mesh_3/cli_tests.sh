@@ -65,6 +65,16 @@ check "vtu has 6 cells" grep -q 'NumberOfCells="6"' "$work/cube.vtu"
 check "vtu has quality" grep -q 'min_dihedral' "$work/cube.vtu"
 check "svg written" grep -q '<svg' "$work/cube.svg"
 check "summary printed" grep -qi "dihedral" "$work/out.txt"
+check "json says valid" grep -qE '"valid"[[:space:]]*:[[:space:]]*true' "$work/cube.json"
+expect require-valid-ok 0 "" -- "$tool" eval "$cube" --require-valid --quiet
+
+# An inverted tet: evaluation still reports, --require-valid refuses with exit 2.
+awk 'BEGIN{t=0} /^Tetrahedra/{t=1} t==1 && NF==5 && !done {print $2, $1, $3, $4, $5; done=1; next} {print}' \
+  "$cube" >"$work/inverted.mesh"
+expect eval-inverted 0 "" -- "$tool" eval "$work/inverted.mesh" --report "$work/inv.json" --quiet
+check "inverted counted" [ "$(json_value "$work/inv.json" inverted_tets)" = "1" ]
+check "json says invalid" grep -qE '"valid"[[:space:]]*:[[:space:]]*false' "$work/inv.json"
+expect require-valid-refuses 2 "inverted.mesh: invalid mesh" -- "$tool" eval "$work/inverted.mesh" --require-valid --quiet
 
 # Stretching the cube by the metric changes the angles: diag(1,1,4) halves z lengths' room.
 expect eval-stretched 0 "" -- "$tool" eval "$cube" --metric-const 1,0,0,1,0,4 --report "$work/cube4.json" --quiet
