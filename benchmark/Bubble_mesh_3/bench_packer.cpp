@@ -1,0 +1,137 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Bubble_packer_3 at about 10k, 100k and 1M interior bubbles, with the identity
+// metric (scaled) on the unit cube and with a 1:10 graded anisotropic metric on
+// a 10 x 1 x 1 box (so that most bubbles are interior), on 1 and 2 threads. Prints one table row per run: interior bubbles,
+// iterations, time per iteration, interior-stage time, total time.
+//
+//   bench_packer            10k and 100k (default)
+//   bench_packer 1000000    adds the given size (e.g. 1M)
+//   bench_packer --only 20000 --threads 1 --identity   one size, one thread count, one metric
+//   (--graded: the graded metric only; --skin s: Parameters::skin;
+//    --no-population-control: Parameters::population_control = false)
+#include <CGAL/Bubble_packer_3.h>
+#include <CGAL/Constant_metric_field_3.h>
+#include <CGAL/Function_metric_field_3.h>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Mesh_polyhedron_3.h>
+#include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+typedef CGAL::Mesh_polyhedron_3<K>::type Polyhedron;
+typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
+typedef CGAL::Bubble_mesh_3::Metric_3 Metric;
+
+// the box [0, a] x [0, 1] x [0, 1]
+static Polyhedron box(double a)
+{
+  std::stringstream off;
+  off << "OFF\n8 12 0\n0 0 0\n" << a << " 0 0\n" << a << " 1 0\n0 1 0\n0 0 1\n" << a << " 0 1\n" << a
+      << " 1 1\n0 1 1\n"
+      << "3 0 3 2\n3 0 2 1\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n"
+      << "3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
+  Polyhedron p;
+  off >> p;
+  return p;
+}
+
+static double bench_skin = 0.3;
+static bool bench_population = true;
+
+template <typename Field>
+static void run(const char* name, const Domain& domain, const Field& field, double target, int threads)
+{
+  typedef CGAL::Bubble_packer_3<Domain, Field> Packer;
+  typename Packer::Parameters prm;
+  prm.number_of_threads = threads;
+  prm.skin = bench_skin;
+  prm.population_control = bench_population;
+  Packer packer(domain, field, prm);
+  const auto t0 = std::chrono::steady_clock::now();
+  packer.run();
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto& s3 = packer.statistics().stages[3];
+  const auto& s2 = packer.statistics().stages[2];
+  std::printf("%-9s %9.0f %2d | %9zu %5d %s %9.4f %8.2f | %8zu %5d %7.2f | %8.2f | rebuilds %zu rounds %d | nn p05 %.3f p50 %.3f min %.3f\n", name,
+              target, threads, s3.bubbles, s3.iterations, s3.converged ? "c" : "-",
+              s3.seconds / std::max(1, s3.iterations), s3.seconds, s2.bubbles, s2.iterations, s2.seconds, total,
+              s3.neighbour_rebuilds, s3.population_rounds,
+              packer.statistics().nearest_p05, packer.statistics().nearest_p50, packer.statistics().nearest_min);
+  std::fflush(stdout);
+}
+
+int main(int argc, char** argv)
+{
+  std::vector<double> sizes = {1e4, 1e5};
+  std::vector<int> thread_counts = {1, 2};
+  bool run_identity = true, run_graded = true;
+  for(int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if(a == "--only" && i + 1 < argc) { // --only N: that size alone
+      sizes = {std::atof(argv[++i])};
+    } else if(a == "--threads" && i + 1 < argc) {
+      thread_counts = {std::atoi(argv[++i])};
+    } else if(a == "--skin" && i + 1 < argc) {
+      bench_skin = std::atof(argv[++i]);
+    } else if(a == "--no-population-control") {
+      bench_population = false;
+    } else if(a == "--identity") {
+      run_graded = false;
+    } else if(a == "--graded") {
+      run_identity = false;
+    } else {
+      sizes.push_back(std::atof(argv[i]));
+    }
+  }
+  Polyhedron p = box(1);
+  Domain domain(p);
+  domain.detect_features(60);
+  // the graded metric is stretched 1:10 along x: its domain is 10 long in x,
+  // so that most of its bubbles are interior (in the unit cube, a bubble at
+  // the coarse end would be nearly as long as the cube)
+  Polyhedron p10 = box(10);
+  Domain domain10(p10);
+  domain10.detect_features(60);
+  std::printf("metric    target    thr | interior  iter   s/iter  stage3_s | surface  iter  stage2_s | total_s\n");
+  for(double n : sizes) {
+    // identity metric scaled so that sqrt(2)/h^3 = n
+    const double h = std::cbrt(std::sqrt(2.0) / n);
+    CGAL::Constant_metric_field_3<K> iso = CGAL::Constant_metric_field_3<K>::isotropic(h);
+    // graded anisotropic on [0,10] x [0,1] x [0,1]: sizes (10 g, g, g) along
+    // (x, y, z), g grows 1 -> 10 along x; scaled so that sqrt(2) int sqrt(det M)
+    // = n (int_0^10 dx / (10 g(x)^3))
+    const double integral = [] {
+      double s = 0;
+      const int m = 10000;
+      for(int i = 0; i < m; ++i) {
+        const double x = 10 * (i + 0.5) / m, g = 1 + 0.9 * x;
+        s += 10 / (10 * g * g * g) / m;
+      }
+      return s;
+    }();
+    const double g0 = std::cbrt(std::sqrt(2.0) * integral / n);
+    auto graded = CGAL::make_function_metric_field_3<K>([g0](const K::Point_3& q) {
+      const double g = g0 * (1 + 0.9 * q.x());
+      return Metric::from_entries(1 / (100 * g * g), 0, 0, 1 / (g * g), 0, 1 / (g * g));
+    });
+    for(int threads : thread_counts) {
+      if(run_identity)
+        run("identity", domain, iso, n, threads);
+      if(run_graded)
+        run("graded", domain10, graded, n, threads);
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,530 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Tests of CGAL::Bubble_packer_3 (issue 3): 1D, 2D and 3D packing quality,
+// entity membership, the node-count estimate, thread determinism, errors.
+// Domains are generated in code (a cube, an icosphere).
+#include <CGAL/Bubble_packer_3.h>
+#include <CGAL/Constant_metric_field_3.h>
+#include <CGAL/Function_metric_field_3.h>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Mesh_polyhedron_3.h>
+#include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+namespace {
+
+typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+typedef K::Point_3 Point_3;
+typedef CGAL::Mesh_polyhedron_3<K>::type Polyhedron;
+typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
+typedef CGAL::Constant_metric_field_3<K> Constant_field;
+typedef CGAL::Bubble_mesh_3::Metric_3 Metric;
+typedef Eigen::Vector3d Vec3;
+
+// Axis-aligned box [0,a]x[0,b]x[0,c], two triangles per face.
+Polyhedron make_box(double a, double b, double c)
+{
+  std::stringstream off;
+  off << "OFF\n8 12 0\n0 0 0\n" << a << " 0 0\n" << a << " " << b << " 0\n0 " << b << " 0\n0 0 " << c << "\n"
+      << a << " 0 " << c << "\n" << a << " " << b << " " << c << "\n0 " << b << " " << c << "\n"
+      << "3 0 3 2\n3 0 2 1\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
+  Polyhedron p;
+  off >> p;
+  return p;
+}
+
+// Icosphere of radius 1 (subdivided `levels` times, vertices on the sphere).
+Polyhedron make_sphere(int levels)
+{
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
+                                       {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for(auto& p : v)
+    p.normalize();
+  for(int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = mid.find(key);
+      if(it != mid.end())
+        return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      mid[key] = int(v.size()) - 1;
+      return int(v.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> g;
+    for(auto& tr : f) {
+      int a = midpoint(tr[0], tr[1]), b = midpoint(tr[1], tr[2]), c = midpoint(tr[2], tr[0]);
+      g.push_back({tr[0], a, c});
+      g.push_back({tr[1], b, a});
+      g.push_back({tr[2], c, b});
+      g.push_back({a, b, c});
+    }
+    f = g;
+  }
+  std::stringstream off;
+  off.precision(17);
+  off << "OFF\n" << v.size() << " " << f.size() << " 0\n";
+  for(auto& p : v)
+    off << p[0] << " " << p[1] << " " << p[2] << "\n";
+  for(auto& tr : f)
+    off << "3 " << tr[0] << " " << tr[1] << " " << tr[2] << "\n";
+  Polyhedron p;
+  off >> p;
+  return p;
+}
+
+Vec3 vec(const Point_3& p) { return Vec3(p.x(), p.y(), p.z()); }
+
+// Points mapped by a constant metric's Q, in a uniform grid for nearest queries.
+class Mapped_points {
+public:
+  Mapped_points(const std::vector<Vec3>& pts, const Metric& m) : q_(m.Q())
+  {
+    for(const auto& p : pts)
+      y_.push_back(q_ * p);
+    cell_ = 1.0;
+    for(std::size_t i = 0; i < y_.size(); ++i)
+      grid_[key(y_[i])].push_back(int(i));
+  }
+  // metric distance from point p to the nearest node other than `skip`
+  double nearest(const Vec3& p, int skip = -1) const
+  {
+    const Vec3 y = q_ * p;
+    double best = 1e300;
+    for(int r = 1; r < 8; ++r) {
+      const long cx = long(std::floor(y[0] / cell_)), cy = long(std::floor(y[1] / cell_)),
+                 cz = long(std::floor(y[2] / cell_));
+      for(long dx = -r; dx <= r; ++dx)
+        for(long dy = -r; dy <= r; ++dy)
+          for(long dz = -r; dz <= r; ++dz) {
+            auto it = grid_.find(pack(cx + dx, cy + dy, cz + dz));
+            if(it == grid_.end())
+              continue;
+            for(int j : it->second)
+              if(j != skip)
+                best = std::min(best, (y_[j] - y).norm());
+          }
+      if(best <= r * cell_)
+        return best;
+    }
+    return best;
+  }
+  std::size_t size() const { return y_.size(); }
+
+private:
+  static long long pack(long x, long y, long z) { return (x + 100000) * 40000000000LL + (y + 100000) * 200000LL + (z + 100000); }
+  long long key(const Vec3& y) const
+  {
+    return pack(long(std::floor(y[0] / cell_)), long(std::floor(y[1] / cell_)), long(std::floor(y[2] / cell_)));
+  }
+  Eigen::Matrix3d q_;
+  std::vector<Vec3> y_;
+  double cell_;
+  std::unordered_map<long long, std::vector<int>> grid_;
+};
+
+template <typename Packer>
+std::vector<Vec3> positions(const Packer& packer, int max_dim = 3)
+{
+  std::vector<Vec3> out;
+  for(const auto& n : packer.nodes())
+    if(n.dimension <= max_dim)
+      out.push_back(vec(n.point));
+  return out;
+}
+
+template <typename Packer>
+void print_statistics(const Packer& packer)
+{
+  const auto& st = packer.statistics();
+  for(int d = 0; d < 4; ++d) {
+    const auto& s = st.stages[d];
+    std::cout << "    dim " << d << ": bubbles " << s.bubbles << " (expected " << s.expected_bubbles << ", seeded "
+              << s.seeded << "), iterations " << s.iterations << (s.converged ? " converged" : " NOT converged")
+              << ", last step " << s.last_maximum_displacement << ", +" << s.inserted << " -" << s.deleted << " in "
+              << s.population_rounds << " rounds, " << s.seconds << " s\n";
+  }
+  std::cout << "    nearest w: min " << st.nearest_min << " p05 " << st.nearest_p05 << " p50 " << st.nearest_p50
+            << " p95 " << st.nearest_p95 << " max " << st.nearest_max << "\n";
+}
+
+struct Quality {
+  double min_pair = 0;
+  double coverage = 0;
+  std::size_t count = 0;
+};
+
+// 3D quality in a box with a constant metric: min pair distance, coverage of a
+// fine grid sample (including the boundary), number of nodes.
+template <typename Packer>
+Quality box_quality(const Packer& packer, const Metric& m, const Vec3& size, int samples_per_axis)
+{
+  Quality q;
+  const std::vector<Vec3> pts = positions(packer);
+  std::vector<int> dims;
+  for(const auto& n : packer.nodes())
+    dims.push_back(n.dimension);
+  Mapped_points mp(pts, m);
+  q.min_pair = 1e300;
+  std::size_t worst = 0;
+  for(std::size_t i = 0; i < pts.size(); ++i) {
+    const double d = mp.nearest(pts[i], int(i));
+    if(d < q.min_pair) {
+      q.min_pair = d;
+      worst = i;
+    }
+  }
+  q.coverage = 0;
+  Vec3 hole = Vec3::Zero();
+  for(int i = 0; i <= samples_per_axis; ++i)
+    for(int j = 0; j <= samples_per_axis; ++j)
+      for(int k = 0; k <= samples_per_axis; ++k) {
+        const Vec3 p(size[0] * i / samples_per_axis, size[1] * j / samples_per_axis, size[2] * k / samples_per_axis);
+        const double d = mp.nearest(p);
+        if(d > q.coverage) {
+          q.coverage = d;
+          hole = p;
+        }
+      }
+  q.count = pts.size();
+  // where the worst values are (diagnostics)
+  std::size_t partner = worst;
+  for(std::size_t j = 0; j < pts.size(); ++j)
+    if(j != worst && std::abs((m.Q() * (pts[j] - pts[worst])).norm() - q.min_pair) < 1e-12)
+      partner = j;
+  std::cout << "    closest pair: dimensions " << dims[worst] << " and " << dims[partner] << " at "
+            << pts[worst].transpose() << " and " << pts[partner].transpose() << "; largest hole at "
+            << hole.transpose() << "\n";
+  return q;
+}
+
+typedef CGAL::Bubble_packer_3<Domain, Constant_field> Constant_packer;
+
+// Expected node count of a closed box with a constant metric: an ideal FCC
+// packing has sqrt(2) nodes per unit metric volume; its boundary is a
+// hexagonal layer of 2/sqrt(3) nodes per unit metric area, which the volume
+// term counts only half (a (111) layer of an FCC packing holds 2/sqrt(3) nodes
+// per unit area and is sqrt(2/3) thick), hence the boundary correction
+// (1/sqrt 3) * metric area. Curves and corners are not added (they are part
+// of the boundary layer).
+double box_estimate(const Metric& m, const Vec3& size)
+{
+  const Eigen::Matrix3d inv = m.matrix().inverse();
+  const double sd = m.sqrt_determinant();
+  double area = 0;
+  for(int d = 0; d < 3; ++d) {
+    const double face = size.prod() / size[d];
+    area += 2 * face * sd * std::sqrt(inv(d, d)); // metric area of a face of normal e_d
+  }
+  return std::sqrt(2.0) * sd * size.prod() + area / std::sqrt(3.0);
+}
+
+void check_box_3d(const Metric& m, const Vec3& size, int samples, Constant_packer::Parameters prm = {})
+{
+  Polyhedron p = make_box(size[0], size[1], size[2]);
+  Domain domain(p);
+  domain.detect_features(60);
+  Constant_field field(m);
+  Constant_packer packer(domain, field, prm);
+  packer.run();
+  print_statistics(packer);
+  const Quality q = box_quality(packer, m, size, samples);
+  const double estimate = box_estimate(m, size);
+  std::cout << "    min pair " << q.min_pair << ", coverage " << q.coverage << ", nodes " << q.count << ", estimate "
+            << estimate << ", ratio " << q.count / estimate << "\n";
+  EXPECT_GE(q.min_pair, 0.6);
+  EXPECT_LE(q.coverage, 0.75);
+  EXPECT_NEAR(q.count / estimate, 1.0, 0.10);
+  // every node on its entity: interior strictly inside, patch nodes on a face, ...
+  for(const auto& n : packer.nodes()) {
+    const Vec3 x = vec(n.point);
+    int on_faces = 0;
+    for(int d = 0; d < 3; ++d) {
+      EXPECT_GE(x[d], 0);
+      EXPECT_LE(x[d], size[d]);
+      on_faces += (x[d] == 0 || std::abs(x[d] - size[d]) < 1e-12 * size[d]) ? 1 : 0;
+    }
+    EXPECT_EQ(on_faces, 3 - n.dimension) << "node " << x.transpose() << " of dimension " << n.dimension;
+  }
+}
+
+} // namespace
+
+TEST(BubblePacker, CubeIdentity3D)
+{
+  check_box_3d(Metric::isotropic(0.1), Vec3(1, 1, 1), 60);
+}
+
+// Known failure (see the issue report). Pair distances are measured in the
+// (constant) metric, so min over both ends and midpoint coincide. With the
+// 1:4 stretching along (1,1,0), the edges (0,1,z) and (1,0,z) are thin wedges
+// in metric space (the faces meet at 28 degrees there instead of 90), and so
+// are the corners (0,1,*) and (1,0,*) of the faces z = 0 and z = 1. The 1D
+// stage now keeps curves apart at such corners (was 0.47 between two curve
+// bubbles), but the 2D stage still churns (about +500 -440 per run) on the
+// faces x = 0 and y = 0 next to the thin edges: bubbles of the two faces only
+// repel each other and one face's bubbles are squeezed below 0.65, deleted,
+// and the gap refilled. Measured: min pair 0.53 (surface-surface), coverage
+// 0.79, count ratio 1.08.
+TEST(BubblePacker, DISABLED_CubeStretched1to4)
+{
+  // 1:4 stretching along (1,1,0), sizes 0.2 and 0.05
+  Eigen::Matrix3d r;
+  r << 1, -1, 0, 1, 1, 0, 0, 0, std::sqrt(2.0);
+  check_box_3d(Metric::from_directions_and_sizes(r, Vec3(0.2, 0.05, 0.05)), Vec3(1, 1, 1), 48);
+}
+
+TEST(BubblePacker, CurveConstantMetricEqualSpacing)
+{
+  Polyhedron p = make_box(1, 0.3, 0.2);
+  Domain domain(p);
+  domain.detect_features(60);
+  Constant_field field = Constant_field::isotropic(0.1);
+  Constant_packer packer(domain, field);
+  packer.pack_corners();
+  packer.pack_curves();
+  // group curve nodes (and the corners) by curve, sort along the curve
+  std::map<int, std::vector<Vec3>> by_curve;
+  for(const auto& n : packer.nodes())
+    if(n.dimension == 1)
+      by_curve[domain.curve_index(n.index)].push_back(vec(n.point));
+  ASSERT_EQ(by_curve.size(), 12u);
+  double worst = 0;
+  for(auto& c : by_curve) {
+    auto& v = c.second;
+    const Vec3 size(1, 0.3, 0.2);
+    // the axis of the curve: the coordinate strictly inside (0, size)
+    int axis = -1;
+    for(int d = 0; d < 3; ++d)
+      if(v.front()[d] > 1e-12 && v.front()[d] < size[d] - 1e-12)
+        axis = d;
+    ASSERT_GE(axis, 0);
+    const double length = size[axis];
+    std::vector<double> t = {0, length};
+    for(const auto& x : v) {
+      t.push_back(x[axis]);
+      // on the curve: the two other coordinates are 0 or the box size
+      for(int d = 0; d < 3; ++d) {
+        if(d != axis) {
+          EXPECT_TRUE(std::abs(x[d]) < 1e-12 || std::abs(x[d] - size[d]) < 1e-12) << x.transpose();
+        }
+      }
+    }
+    std::sort(t.begin(), t.end());
+    const double target = length / std::round(length / 0.1);
+    for(std::size_t k = 1; k < t.size(); ++k)
+      worst = std::max(worst, std::abs(t[k] - t[k - 1] - target) / target);
+  }
+  std::cout << "    largest relative spacing error " << worst << "\n";
+  EXPECT_LE(worst, 0.02);
+}
+
+TEST(BubblePacker, CurveGradedMetricFollowsSize)
+{
+  // size h(x) = 0.02 + 0.1 x along the 1-long edges
+  Polyhedron p = make_box(1, 0.5, 0.5);
+  Domain domain(p);
+  domain.detect_features(60);
+  auto field = CGAL::make_function_metric_field_3<K>([](const Point_3& q) {
+    const double h = 0.02 + 0.1 * q.x();
+    return Metric::isotropic(h);
+  });
+  CGAL::Bubble_packer_3<Domain, decltype(field)> packer(domain, field);
+  packer.pack_corners();
+  packer.pack_curves();
+  std::vector<double> xs = {0, 1};
+  for(const auto& n : packer.nodes())
+    if(n.dimension == 1 && n.point.y() == 0 && n.point.z() == 0)
+      xs.push_back(n.point.x());
+  std::sort(xs.begin(), xs.end());
+  // metric length of [a, b]: int dx / h = 10 ln(h(b) / h(a))
+  double lo = 1e300, hi = 0;
+  for(std::size_t k = 1; k < xs.size(); ++k) {
+    const double l = 10 * std::log((0.02 + 0.1 * xs[k]) / (0.02 + 0.1 * xs[k - 1]));
+    lo = std::min(lo, l);
+    hi = std::max(hi, l);
+  }
+  const double total = 10 * std::log(0.12 / 0.02);
+  std::cout << "    " << xs.size() - 1 << " segments for metric length " << total << ", metric spacing in [" << lo
+            << ", " << hi << "], Euclidean spacing " << xs[1] - xs[0] << " ... " << xs.back() - xs[xs.size() - 2] << "\n";
+  EXPECT_EQ(long(xs.size() - 1), std::lround(total));
+  EXPECT_GE(lo, 0.92);
+  EXPECT_LE(hi, 1.08);
+  EXPECT_GT(xs.back() - xs[xs.size() - 2], 4 * (xs[1] - xs[0]));
+}
+
+TEST(BubblePacker, PlanarSquares2D)
+{
+  Polyhedron p = make_box(1, 1, 1);
+  Domain domain(p);
+  domain.detect_features(60);
+  const double h = 0.08;
+  Constant_field field = Constant_field::isotropic(h);
+  Constant_packer packer(domain, field);
+  packer.pack_corners();
+  packer.pack_curves();
+  packer.pack_surfaces();
+  print_statistics(packer);
+  const std::vector<Vec3> pts = positions(packer, 2);
+  Mapped_points mp(pts, field.metric());
+  double min_pair = 1e300;
+  for(std::size_t i = 0; i < pts.size(); ++i)
+    min_pair = std::min(min_pair, mp.nearest(pts[i], int(i)));
+  // coverage of every face, and every patch node on one plane per patch
+  double coverage = 0;
+  const int n = 50;
+  for(int face = 0; face < 6; ++face)
+    for(int i = 0; i <= n; ++i)
+      for(int j = 0; j <= n; ++j) {
+        Vec3 x;
+        x[face / 2] = face % 2;
+        x[(face / 2 + 1) % 3] = double(i) / n;
+        x[(face / 2 + 2) % 3] = double(j) / n;
+        coverage = std::max(coverage, mp.nearest(x));
+      }
+  std::map<int, std::array<int, 6>> planes; // patch -> count of nodes on each face plane
+  for(const auto& nd : packer.nodes())
+    if(nd.dimension == 2) {
+      const Vec3 x = vec(nd.point);
+      int on = -1, count = 0;
+      for(int d = 0; d < 3; ++d)
+        for(int side = 0; side < 2; ++side)
+          if(std::abs(x[d] - side) < 1e-12) {
+            on = 2 * d + side;
+            ++count;
+          }
+      ASSERT_EQ(count, 1) << x.transpose();
+      planes[domain.surface_patch_index(nd.index)][on] += 1;
+    }
+  EXPECT_EQ(planes.size(), 6u);
+  for(const auto& pl : planes)
+    EXPECT_EQ(std::count(pl.second.begin(), pl.second.end(), 0), 5) << "patch " << pl.first << " spans two faces";
+  const double area = 6 / (h * h);
+  std::cout << "    surface+curve nodes " << pts.size() << ", hexagonal estimate (2/sqrt3) A = " << 2 / std::sqrt(3.0) * area
+            << ", min pair " << min_pair << ", coverage " << coverage << "\n";
+  EXPECT_GE(min_pair, 0.6);
+  EXPECT_LE(coverage, 0.75);
+}
+
+TEST(BubblePacker, Sphere2D)
+{
+  Polyhedron p = make_sphere(3);
+  Domain domain(p);
+  domain.detect_features(60);
+  const double h = 0.1;
+  Constant_field field = Constant_field::isotropic(h);
+  Constant_packer packer(domain, field);
+  packer.pack_corners();
+  packer.pack_curves();
+  packer.pack_surfaces();
+  print_statistics(packer);
+  // the surface as triangles, for distances
+  std::vector<K::Triangle_3> triangles;
+  for(auto f : faces(p)) {
+    auto hd = halfedge(f, p);
+    triangles.emplace_back(source(hd, p)->point(), target(hd, p)->point(), target(next(hd, p), p)->point());
+  }
+  typedef CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, std::vector<K::Triangle_3>::iterator>>> Tree;
+  Tree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
+  const std::vector<Vec3> pts = positions(packer, 2);
+  double off_surface = 0;
+  for(const auto& x : pts)
+    off_surface = std::max(off_surface, std::sqrt(tree.squared_distance(Point_3(x[0], x[1], x[2]))));
+  Mapped_points mp(pts, field.metric());
+  double min_pair = 1e300;
+  for(std::size_t i = 0; i < pts.size(); ++i)
+    min_pair = std::min(min_pair, mp.nearest(pts[i], int(i)));
+  std::mt19937 gen(7);
+  std::normal_distribution<double> normal;
+  double coverage = 0;
+  for(int k = 0; k < 20000; ++k) {
+    const Point_3 q = tree.closest_point(Point_3(normal(gen), normal(gen), normal(gen)));
+    coverage = std::max(coverage, mp.nearest(vec(q)));
+  }
+  const double area = 4 * 3.14159265358979 / (h * h);
+  std::cout << "    nodes " << pts.size() << ", hexagonal estimate " << 2 / std::sqrt(3.0) * area << ", min pair "
+            << min_pair << ", coverage " << coverage << ", largest distance to the surface " << off_surface << "\n";
+  EXPECT_LE(off_surface, 1e-9);
+  EXPECT_GE(min_pair, 0.6);
+  EXPECT_LE(coverage, 0.75);
+  EXPECT_NEAR(pts.size() / (2 / std::sqrt(3.0) * area), 1.0, 0.10);
+}
+
+TEST(BubblePacker, IdenticalWithOneAndTwoThreads)
+{
+  Polyhedron p = make_box(1, 0.8, 0.6);
+  Domain domain(p);
+  domain.detect_features(60);
+  auto field = CGAL::make_function_metric_field_3<K>([](const Point_3& q) {
+    Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+    return Metric::from_directions_and_sizes(r, Vec3(0.2, 0.05 + 0.05 * q.x(), 0.08));
+  });
+  typedef CGAL::Bubble_packer_3<Domain, decltype(field)> Packer;
+  std::vector<std::vector<Packer::Node>> results;
+  for(int threads : {1, 2}) {
+    Packer::Parameters prm;
+    prm.number_of_threads = threads;
+    prm.seed = 3;
+    Packer packer(domain, field, prm);
+    packer.run();
+    results.push_back(packer.nodes());
+  }
+  ASSERT_EQ(results[0].size(), results[1].size());
+  std::size_t different = 0;
+  for(std::size_t i = 0; i < results[0].size(); ++i)
+    if(results[0][i].point != results[1][i].point || results[0][i].dimension != results[1][i].dimension ||
+       results[0][i].index != results[1][i].index)
+      ++different;
+  std::cout << "    " << results[0].size() << " nodes, " << different << " differ\n";
+  EXPECT_EQ(different, 0u);
+}
+
+TEST(BubblePacker, RefusesTooManyBubbles)
+{
+  Polyhedron p = make_box(1, 1, 1);
+  Domain domain(p);
+  domain.detect_features(60);
+  Constant_field field = Constant_field::isotropic(0.01);
+  Constant_packer::Parameters prm;
+  prm.maximum_number_of_bubbles = 1e5;
+  Constant_packer packer(domain, field, prm);
+  EXPECT_THROW(packer.run(), CGAL::Bubble_mesh_3::Invalid_input);
+}
+
+TEST(BubblePacker, InvalidMetricPropagates)
+{
+  Polyhedron p = make_box(1, 1, 1);
+  Domain domain(p);
+  domain.detect_features(60);
+  auto field = CGAL::make_function_metric_field_3<K>([](const Point_3& q) {
+    Eigen::Matrix3d m = Eigen::Matrix3d::Identity() * 100;
+    if(q.x() > 0.5)
+      m(0, 0) = std::nan("");
+    return m;
+  });
+  CGAL::Bubble_packer_3<Domain, decltype(field)> packer(domain, field);
+  EXPECT_THROW(packer.run(), CGAL::Bubble_mesh_3::Invalid_metric);
+}
