@@ -6,6 +6,7 @@
 #define CGAL_BUBBLE_MESH_3_QUALITY_REPORT_H
 
 #include <CGAL/Bubble_mesh_3/IO/write_file_atomically.h>
+#include <CGAL/Bubble_mesh_3/internal/json.h>
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
@@ -298,41 +299,6 @@ inline double length_in_entries(const std::array<double, 6>& m, double x, double
   // entries m11 m12 m13 m22 m23 m33
   const double q = m[0] * x * x + m[3] * y * y + m[5] * z * z + 2 * (m[1] * x * y + m[2] * x * z + m[4] * y * z);
   return std::sqrt(std::max(q, 0.0));
-}
-
-inline std::string format_json_number(double x)
-{
-  if(!std::isfinite(x))
-    return "null";
-  char buffer[64];
-  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), x);
-  if(r.ec != std::errc())
-    return "null";
-  return std::string(buffer, r.ptr);
-}
-
-inline std::string escape_json(const std::string& s)
-{
-  std::string out;
-  out.reserve(s.size() + 2);
-  for(unsigned char ch : s) {
-    switch(ch) {
-    case '"': out += "\\\""; break;
-    case '\\': out += "\\\\"; break;
-    case '\n': out += "\\n"; break;
-    case '\r': out += "\\r"; break;
-    case '\t': out += "\\t"; break;
-    default:
-      if(ch < 0x20) {
-        char u[8];
-        std::snprintf(u, sizeof(u), "\\u%04x", static_cast<unsigned>(ch));
-        out += u;
-      } else {
-        out += static_cast<char>(ch);
-      }
-    }
-  }
-  return out;
 }
 
 inline std::string escape_xml(const std::string& s)

@@ -5,6 +5,7 @@
 #ifndef CGAL_BUBBLE_MESH_3_VALIDITY_H
 #define CGAL_BUBBLE_MESH_3_VALIDITY_H
 
+#include <CGAL/Bubble_mesh_3/internal/json.h>
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -262,33 +263,6 @@ inline Exact_rational validity_exact_det(const std::array<double, 3>& o, const s
   const Exact_rational bx = Exact_rational(q[0]) - ox, by = Exact_rational(q[1]) - oy, bz = Exact_rational(q[2]) - oz;
   const Exact_rational cx = Exact_rational(r[0]) - ox, cy = Exact_rational(r[1]) - oy, cz = Exact_rational(r[2]) - oz;
   return ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-}
-
-inline std::string validity_json_number(double x)
-{
-  if(!std::isfinite(x))
-    return "null";
-  char buffer[64];
-  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), x);
-  if(r.ec != std::errc())
-    return "null";
-  return std::string(buffer, r.ptr);
-}
-
-inline std::string validity_json_string(const std::string& s)
-{
-  std::string out = "\"";
-  for(unsigned char ch : s) {
-    if(ch == '"' || ch == '\\') {
-      out += '\\';
-      out += char(ch);
-    } else if(ch < 0x20) {
-      out += ' ';
-    } else {
-      out += char(ch);
-    }
-  }
-  return out + "\"";
 }
 
 // Collects messages: counts them all, keeps the first `cap`.
@@ -868,7 +842,7 @@ inline void print_validity_summary(std::ostream& out, const Validity_report& r)
 /// `r` as a JSON object (one line), e.g. to embed in the `eval` report.
 inline std::string to_json(const Validity_report& r)
 {
-  using internal::validity_json_number;
+  using internal::format_json_number;
   std::ostringstream os;
   auto b = [](bool x) { return x ? "true" : "false"; };
   os << "{\"valid\": " << b(r.is_valid()) << ", \"number_of_problems\": " << r.number_of_problems
@@ -889,11 +863,11 @@ inline std::string to_json(const Validity_report& r)
      << ", \"extra_triangles\": " << r.extra_triangles << ", \"duplicate_triangles\": " << r.duplicate_triangles
      << ", \"misoriented_boundary_triangles\": " << r.misoriented_boundary_triangles
      << ", \"volume_checked\": " << b(r.volume_checked)
-     << ", \"tet_volume\": " << validity_json_number(r.tet_volume)
-     << ", \"boundary_volume\": " << validity_json_number(r.boundary_volume)
+     << ", \"tet_volume\": " << format_json_number(r.tet_volume)
+     << ", \"boundary_volume\": " << format_json_number(r.boundary_volume)
      << ", \"volume_identity_holds\": " << b(r.volume_identity_holds);
   if(r.expected_volume_checked)
-    os << ", \"expected_volume\": " << validity_json_number(r.expected_volume)
+    os << ", \"expected_volume\": " << format_json_number(r.expected_volume)
        << ", \"expected_volume_matches\": " << b(r.expected_volume_matches);
   os << ", \"unused_vertices\": " << r.unused_vertices
      << ", \"boundary_components\": " << r.number_of_boundary_components << ", \"boundary_euler_characteristics\": [";
@@ -901,7 +875,7 @@ inline std::string to_json(const Validity_report& r)
     os << (i ? ", " : "") << r.boundary_components[i].euler_characteristic;
   os << "], \"problems\": [";
   for(std::size_t i = 0; i < r.problems.size(); ++i)
-    os << (i ? ", " : "") << internal::validity_json_string(r.problems[i]);
+    os << (i ? ", " : "") << internal::json_string(r.problems[i]);
   os << "]}";
   return os.str();
 }
