@@ -97,6 +97,16 @@ public:
   std::size_t remaining_bytes() const { return static_cast<std::size_t>(end_ - p_); }
 
   [[noreturn]] void fail(const std::string& what) const { fail_at(token_line_, what); }
+
+  // A token between sections that no section claims: either a count that
+  // was too small (a stray number) or garbage.
+  [[noreturn]] void fail_stray_token(std::string_view token) const
+  {
+    if(looks_numeric(token))
+      fail("unexpected number '" + shown(token) +
+           "' between sections (a section has more entries than its count says?)");
+    fail("unexpected token '" + shown(token) + "'");
+  }
   [[noreturn]] void fail_at(std::size_t line, const std::string& what) const
   {
     throw Invalid_file(name_ + ":" + std::to_string(line) + ": " + what);
@@ -453,11 +463,8 @@ inline Indexed_tet_mesh_3 parse_medit(const char* begin, const char* end, const 
       // A section we do not know: its layout is unknown, skip its numbers.
       have_token = in.skip_to_next_keyword(token);
       continue;
-    } else if(Token_reader::looks_numeric(token)) {
-      in.fail("unexpected number '" + Token_reader::shown(token) +
-              "' between sections (a section has more entries than its count says?)");
     } else {
-      in.fail("unexpected token '" + Token_reader::shown(token) + "'");
+      in.fail_stray_token(token);
     }
     have_token = in.next(token);
   }

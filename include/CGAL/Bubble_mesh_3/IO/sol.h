@@ -130,11 +130,8 @@ inline std::vector<Metric_3> parse_sol(const char* begin, const char* end, const
     } else if(Token_reader::is_keyword(token)) {
       have_token = in.skip_to_next_keyword(token);
       continue;
-    } else if(Token_reader::looks_numeric(token)) {
-      in.fail("unexpected number '" + Token_reader::shown(token) +
-              "' between sections (a section has more entries than its count says?)");
     } else {
-      in.fail("unexpected token '" + Token_reader::shown(token) + "'");
+      in.fail_stray_token(token);
     }
     have_token = in.next(token);
   }
