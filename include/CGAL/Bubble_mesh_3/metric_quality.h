@@ -85,6 +85,16 @@ inline Eigen::Vector3d map_by_upper(const Eigen::Matrix3d& q, const Eigen::Vecto
                          q(2, 2) * v[2]);
 }
 
+// The three edge vectors p1-p0, p2-p0, p3-p0 mapped by Q of `m`: every metric
+// measure of a tet is the Euclidean measure of these.
+inline std::array<Eigen::Vector3d, 3> metric_edge_vectors(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                                          const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
+                                                          const Metric_3& m)
+{
+  const Eigen::Matrix3d& q = m.Q();
+  return {{map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0), map_by_upper(q, p3 - p0)}};
+}
+
 /// Face normals (twice the area, outward when `a . (b x c) > 0`) of the tet
 /// `p0, p0+a, p0+b, p0+c`; `n[k]` belongs to the face opposite vertex `k`.
 inline void face_normals(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
@@ -246,11 +256,8 @@ inline std::array<double, 6> metric_dihedral_angles(const Eigen::Vector3d& p0, c
                                                     const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
                                                     const Metric_3& m)
 {
-  const Eigen::Matrix3d& q = m.Q();
-  return internal::snap_flat_angles(
-      internal::dihedral_angles_of_edge_vectors(internal::map_by_upper(q, p1 - p0), internal::map_by_upper(q, p2 - p0),
-                                                internal::map_by_upper(q, p3 - p0)),
-      p0, p1, p2, p3);
+  const std::array<Eigen::Vector3d, 3> e = internal::metric_edge_vectors(p0, p1, p2, p3, m);
+  return internal::snap_flat_angles(internal::dihedral_angles_of_edge_vectors(e[0], e[1], e[2]), p0, p1, p2, p3);
 }
 
 /// smallest Euclidean dihedral angle, in degrees: `acos(1/3) = 70.53` for the
@@ -267,12 +274,8 @@ inline double minimum_dihedral_angle(const Eigen::Vector3d& p0, const Eigen::Vec
 inline double metric_minimum_dihedral_angle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                                             const Eigen::Vector3d& p2, const Eigen::Vector3d& p3, const Metric_3& m)
 {
-  const Eigen::Matrix3d& q = m.Q();
-  return internal::snap_flat_angle(
-      internal::minimum_dihedral_angle_of_edge_vectors(internal::map_by_upper(q, p1 - p0),
-                                                       internal::map_by_upper(q, p2 - p0),
-                                                       internal::map_by_upper(q, p3 - p0)),
-      p0, p1, p2, p3);
+  const std::array<Eigen::Vector3d, 3> e = internal::metric_edge_vectors(p0, p1, p2, p3, m);
+  return internal::snap_flat_angle(internal::minimum_dihedral_angle_of_edge_vectors(e[0], e[1], e[2]), p0, p1, p2, p3);
 }
 
 /// Euclidean radius ratio `3 r / R` (inradius over circumradius, normalised):
@@ -287,11 +290,8 @@ inline double radius_ratio(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
 inline double metric_radius_ratio(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                                   const Eigen::Vector3d& p3, const Metric_3& m)
 {
-  const Eigen::Matrix3d& q = m.Q();
-  return internal::snap_flat_ratio(
-      internal::radius_ratio_of_edge_vectors(internal::map_by_upper(q, p1 - p0), internal::map_by_upper(q, p2 - p0),
-                                             internal::map_by_upper(q, p3 - p0)),
-      p0, p1, p2, p3);
+  const std::array<Eigen::Vector3d, 3> e = internal::metric_edge_vectors(p0, p1, p2, p3, m);
+  return internal::snap_flat_ratio(internal::radius_ratio_of_edge_vectors(e[0], e[1], e[2]), p0, p1, p2, p3);
 }
 
 /// Euclidean mean ratio `12 (3|V|)^(2/3) / sum of the six squared edge
@@ -306,11 +306,8 @@ inline double mean_ratio(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, c
 inline double metric_mean_ratio(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                                 const Eigen::Vector3d& p3, const Metric_3& m)
 {
-  const Eigen::Matrix3d& q = m.Q();
-  return internal::snap_flat_ratio(
-      internal::mean_ratio_of_edge_vectors(internal::map_by_upper(q, p1 - p0), internal::map_by_upper(q, p2 - p0),
-                                           internal::map_by_upper(q, p3 - p0)),
-      p0, p1, p2, p3);
+  const std::array<Eigen::Vector3d, 3> e = internal::metric_edge_vectors(p0, p1, p2, p3, m);
+  return internal::snap_flat_ratio(internal::mean_ratio_of_edge_vectors(e[0], e[1], e[2]), p0, p1, p2, p3);
 }
 
 /// @}
