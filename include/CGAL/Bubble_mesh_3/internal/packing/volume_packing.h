@@ -50,6 +50,21 @@ inline const std::array<Vec3, 26>& probe_directions_26()
   return dirs;
 }
 
+// Calls f(a, b) for the eight octant boxes of the box [lo, hi] split at c.
+template <typename F>
+void for_each_octant(const Vec3& lo, const Vec3& c, const Vec3& hi, F&& f)
+{
+  for(int k = 0; k < 8; ++k) {
+    Vec3 a, b;
+    for(int d = 0; d < 3; ++d) {
+      const bool upper = (k >> d) & 1;
+      a[d] = upper ? c[d] : lo[d];
+      b[d] = upper ? hi[d] : c[d];
+    }
+    f(a, b);
+  }
+}
+
 template <typename Oracle>
 class Volume_constraint {
 public:
@@ -140,15 +155,7 @@ private:
     if(side == 0 && depth < 4 && expected > 8)
       split = true;
     if(split) {
-      for(int k = 0; k < 8; ++k) {
-        Vec3 a, b;
-        for(int d = 0; d < 3; ++d) {
-          const bool upper = (k >> d) & 1;
-          a[d] = upper ? c[d] : lo[d];
-          b[d] = upper ? hi[d] : c[d];
-        }
-        cell(a, b, depth + 1);
-      }
+      for_each_octant(lo, c, hi, [&](const Vec3& a, const Vec3& b) { cell(a, b, depth + 1); });
       return;
     }
     double fraction = 1;
@@ -202,15 +209,7 @@ private:
         }
       }
       if(split) {
-        for(int k = 0; k < 8; ++k) {
-          Vec3 a, b;
-          for(int d = 0; d < 3; ++d) {
-            const bool upper = (k >> d) & 1;
-            a[d] = upper ? c[d] : lo[d];
-            b[d] = upper ? hi[d] : c[d];
-          }
-          cell(a, b, depth + 1);
-        }
+        for_each_octant(lo, c, hi, [&](const Vec3& a, const Vec3& b) { cell(a, b, depth + 1); });
         return;
       }
     }
