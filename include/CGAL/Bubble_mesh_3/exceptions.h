@@ -36,6 +36,16 @@ public:
   explicit Invalid_file(const std::string& what) : Invalid_input(what) {}
 };
 
+/// \ingroup PkgBubbleMesh3Ref
+/// Meshing could not produce a valid mesh from valid input (for example the
+/// advancing front could not close and no cavity filler was available). Not
+/// an `Invalid_input`: the command-line tool turns it into exit code 3. The
+/// message says which stage failed and why.
+class Meshing_failure : public std::runtime_error {
+public:
+  explicit Meshing_failure(const std::string& what) : std::runtime_error(what) {}
+};
+
 } // namespace Bubble_mesh_3
 } // namespace CGAL
 

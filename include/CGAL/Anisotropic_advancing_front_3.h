@@ -1,0 +1,788 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#ifndef CGAL_ANISOTROPIC_ADVANCING_FRONT_3_H
+#define CGAL_ANISOTROPIC_ADVANCING_FRONT_3_H
+
+#include <CGAL/Bubble_mesh_3/Anisotropic_advancing_front_traits_3.h>
+#include <CGAL/Bubble_mesh_3/Metric_3.h>
+#include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/internal/front/cavity_filling.h>
+#include <CGAL/Bubble_mesh_3/internal/front/front_geometry.h>
+#include <CGAL/Bubble_mesh_3/internal/front/front_grid.h>
+#include <CGAL/Bubble_mesh_3/metric_quality.h>
+
+#include <CGAL/Default.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <limits>
+#include <map>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace CGAL {
+
+/// \ingroup PkgBubbleMesh3Classes
+///
+/// Connects given nodes into a tetrahedral mesh by an advancing front that
+/// creates no node of its own (Yamakawa and Shimada, section 5.2).
+///
+/// The front starts as the closed boundary surface (triangles on the nodes,
+/// oriented outward). Repeatedly, a front triangle `f` is paired with a node
+/// `p`: the tet `T(f, p)` is *removable* when it is positively oriented, its
+/// three new triangles meet the front only in shared vertices and edges, and
+/// no node lies in the closed tet (then `T` lies in the unmeshed volume).
+///
+/// <b>Choice of the node.</b> For each front triangle, the node among the
+/// live nodes on its inner side whose M-circumsphere with the triangle
+/// contains no other such node: the modified Delaunay criterion, decided by the
+/// traits' exact `Side_of_oriented_metric_sphere_SOS_3` with node ids as the
+/// symbolic perturbation (so there is always exactly one). `M` is the metric
+/// at the centroid of the front triangle, one matrix for all the tests of that
+/// decision, which keeps them mutually consistent. Candidates come from a grid
+/// over the nodes, searched first within `Parameters::search_radius` metric
+/// units of the triangle and then over the bounding box of the winner's
+/// M-circumsphere until that box is covered (so the choice is exactly the
+/// Delaunay one among the live nodes on the inner side).
+///
+/// <b>When the Delaunay pair is not removable</b> the triangle waits. When no
+/// waiting triangle has a removable Delaunay pair, the removable pair of best
+/// quality over all waiting triangles is taken (quality: the minimum metric
+/// dihedral angle, metric at the tet's centroid), and Delaunay choices resume
+/// around it. When no pair at all is removable (twisted prisms), the tets
+/// adjacent to the front are undone (one more layer each round) and each
+/// cavity so enlarged is searched depth-first for a tetrahedrization of its
+/// nodes (most constrained triangle first, best quality first, bounded
+/// effort); then the front advances again. After
+/// `Parameters::maximum_undo_rounds`, every remaining cavity is filled: from
+/// one of its own vertices when all its triangles see it, else from one
+/// Steiner point strictly inside that all its triangles see, else by TetGen's
+/// constrained tetrahedralization with Steiner points strictly inside the
+/// cavity only (when built with TetGen). Every recovery and every Steiner
+/// point is counted in `Statistics`. If a cavity still remains,
+/// `Bubble_mesh_3::Meshing_failure` is thrown: the result is a valid mesh of
+/// the whole volume or an exception, never a partial mesh.
+///
+/// \tparam MetricField a model of `MetricField_3`
+/// \tparam Traits_ a model of `AnisotropicAdvancingFrontTraits_3`, by
+///   default `Bubble_mesh_3::Anisotropic_advancing_front_traits_3<>`.
+template <class MetricField, class Traits_ = Default>
+class Anisotropic_advancing_front_3 {
+public:
+  typedef MetricField Metric_field;
+  typedef typename Default::Get<Traits_, Bubble_mesh_3::Anisotropic_advancing_front_traits_3<>>::type Traits;
+  typedef typename Traits::Point_3 Point_3;
+  typedef Bubble_mesh_3::Metric_3 Metric;
+  typedef std::array<int, 3> Triangle;
+  typedef std::array<int, 4> Tetrahedron;
+
+  struct Parameters {
+    /// candidate search radius around a front triangle, in metric units of its metric
+    double search_radius = 1.0;
+    /// rounds of undoing the tets next to a stuck front before filling the cavities
+    int maximum_undo_rounds = 4;
+    /// allow Steiner points strictly inside a cavity that no node can close
+    bool allow_steiner_points = true;
+    /// called every `progress_interval` tets with (tets, front triangles)
+    std::function<void(std::size_t, std::size_t)> progress;
+    std::size_t progress_interval = 100000;
+  };
+
+  struct Statistics {
+    std::size_t delaunay_tets = 0;      ///< tets from the modified Delaunay choice
+    std::size_t best_quality_tets = 0;  ///< tets from the best-quality fallback
+    std::size_t undo_rounds = 0;
+    std::size_t undone_tets = 0;
+    std::size_t search_tets = 0;        ///< tets placed by the search in undone cavities (count may include retried ones)
+    std::size_t cavities = 0;           ///< cavities left after the undo rounds
+    std::size_t vertex_star_fills = 0;  ///< cavities closed from one of their vertices
+    std::size_t steiner_star_fills = 0; ///< cavities closed from one Steiner point
+    std::size_t tetgen_fills = 0;       ///< cavities closed by TetGen
+    std::size_t steiner_points = 0;
+    std::size_t cavity_tets = 0;        ///< tets created by the cavity fillers
+    std::size_t unused_nodes = 0;       ///< nodes no tet uses (outside the boundary)
+    double seconds = 0;
+  };
+
+  /// The mesh: the input points followed by the Steiner points, and the
+  /// positively oriented tets.
+  struct Result {
+    std::vector<Point_3> points;
+    std::vector<Tetrahedron> tets;
+    Statistics statistics;
+  };
+
+  explicit Anisotropic_advancing_front_3(const Metric_field& field, const Parameters& parameters = Parameters(),
+                                         const Traits& traits = Traits())
+      : field_(field), param_(parameters), traits_(traits)
+  {
+  }
+
+  /// Meshes the volume enclosed by `boundary` (triangles on `points`, closed,
+  /// oriented outward) using every point inside it. Throws
+  /// `Bubble_mesh_3::Invalid_input` if the boundary is not closed or refers
+  /// to missing points, `Bubble_mesh_3::Meshing_failure` if the volume cannot
+  /// be completed.
+  Result run(const std::vector<Point_3>& points, const std::vector<Triangle>& boundary)
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    init(points, boundary);
+    advance();
+    Result r;
+    fill_cavities();
+    collect(r);
+    r.statistics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
+
+private:
+  typedef Bubble_mesh_3::internal::front::Box Box;
+  typedef std::array<double, 3> P3;
+
+  struct Face {
+    Triangle v;
+    bool alive = true;
+    bool waiting = false;      // its Delaunay pair was not removable
+    bool fallback_dirty = true;
+    double fallback_quality = -1;
+    int fallback_node = -1;
+  };
+
+  struct Key_hash {
+    std::size_t operator()(const Triangle& t) const
+    {
+      std::uint64_t h = std::uint64_t(t[0]) * 0x9E3779B97F4A7C15ull;
+      h ^= std::uint64_t(t[1]) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+      h ^= std::uint64_t(t[2]) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
+      return std::size_t(h);
+    }
+  };
+
+  // ---------------------------------------------------------------- set-up
+  void init(const std::vector<Point_3>& points, const std::vector<Triangle>& boundary)
+  {
+    pts_ = points;
+    xyz_.clear();
+    for(const Point_3& p : pts_)
+      xyz_.push_back({{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}});
+    const int n = static_cast<int>(pts_.size());
+    // the boundary: valid ids, non-degenerate, every edge once in each direction
+    std::map<std::pair<int, int>, int> directed;
+    double edge_sum = 0;
+    for(const Triangle& t : boundary) {
+      for(int k = 0; k < 3; ++k)
+        if(t[k] < 0 || t[k] >= n)
+          throw Bubble_mesh_3::Invalid_input("advancing front: a boundary triangle refers to a missing point");
+      if(t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+        throw Bubble_mesh_3::Invalid_input("advancing front: a boundary triangle repeats a vertex");
+      for(int k = 0; k < 3; ++k) {
+        if(++directed[std::make_pair(t[k], t[(k + 1) % 3])] > 1)
+          throw Bubble_mesh_3::Invalid_input("advancing front: the boundary is not consistently oriented or not manifold");
+        edge_sum += distance(t[k], t[(k + 1) % 3]);
+      }
+    }
+    for(const auto& e : directed)
+      if(!directed.count(std::make_pair(e.first.second, e.first.first)))
+        throw Bubble_mesh_3::Invalid_input("advancing front: the boundary surface is not closed");
+    if(boundary.empty())
+      throw Bubble_mesh_3::Invalid_input("advancing front: empty boundary");
+
+    cell_ = edge_sum / double(3 * boundary.size());
+    if(!(cell_ > 0))
+      throw Bubble_mesh_3::Invalid_input("advancing front: degenerate boundary");
+    nodes_.build(xyz_, cell_);
+    faces_grid_.reset(xyz_.front(), cell_);
+    faces_.clear();
+    face_of_.clear();
+    tets_.clear();
+    tet_alive_.clear();
+    tets_of_face_.clear();
+    front_count_.assign(n, 0);
+    tet_count_.assign(n, 0);
+    queue_.clear();
+    waiting_.clear();
+    stats_ = Statistics();
+    alive_faces_ = 0;
+    // the front: boundary triangles reversed (the unmeshed side is positive)
+    for(const Triangle& t : boundary)
+      toggle_face(Triangle{{t[0], t[2], t[1]}});
+  }
+
+  double distance(int a, int b) const
+  {
+    double s = 0;
+    for(int k = 0; k < 3; ++k)
+      s += (xyz_[a][k] - xyz_[b][k]) * (xyz_[a][k] - xyz_[b][k]);
+    return std::sqrt(s);
+  }
+
+  Box box_of(std::initializer_list<int> ids) const
+  {
+    Box b;
+    b.lo = b.hi = xyz_[*ids.begin()];
+    for(int i : ids)
+      for(int k = 0; k < 3; ++k) {
+        b.lo[k] = std::min(b.lo[k], xyz_[i][k]);
+        b.hi[k] = std::max(b.hi[k], xyz_[i][k]);
+      }
+    return b;
+  }
+
+  bool is_alive_node(int v) const { return front_count_[v] > 0 || tet_count_[v] == 0; }
+
+  // ------------------------------------------------------- front bookkeeping
+  /// Adds `t` to the front, or removes its reverse if present.
+  void toggle_face(const Triangle& t)
+  {
+    namespace F = Bubble_mesh_3::internal::front;
+    const Triangle key = F::sorted(t);
+    auto it = face_of_.find(key);
+    if(it != face_of_.end()) {
+      Face& g = faces_[it->second];
+      CGAL_assertion(!F::same_orientation(g.v, t));
+      g.alive = false;
+      --alive_faces_;
+      for(int v : g.v)
+        --front_count_[v];
+      face_of_.erase(it);
+      faces_grid_.remove(static_cast<int>(&g - faces_.data()), box_of({g.v[0], g.v[1], g.v[2]}));
+      return;
+    }
+    const int id = static_cast<int>(faces_.size());
+    Face f;
+    f.v = t;
+    faces_.push_back(f);
+    face_of_.emplace(key, id);
+    ++alive_faces_;
+    for(int v : t)
+      ++front_count_[v];
+    faces_grid_.insert(id, box_of({t[0], t[1], t[2]}));
+    queue_.push_back(id);
+  }
+
+  void add_tet(const Tetrahedron& t)
+  {
+    namespace F = Bubble_mesh_3::internal::front;
+    const int id = static_cast<int>(tets_.size());
+    tets_.push_back(t);
+    tet_alive_.push_back(1);
+    for(int v : t)
+      ++tet_count_[v];
+    for(const Triangle& o : F::outward_faces(t)) {
+      tets_of_face_[F::sorted(o)].push_back(id);
+      // the outward face's reverse is the front face it consumes, or a new front face
+      toggle_face(o);
+    }
+    wake_neighbours(t);
+    if(param_.progress && tets_.size() % param_.progress_interval == 0)
+      param_.progress(tets_.size(), std::size_t(alive_faces_));
+  }
+
+  void remove_tet(int id)
+  {
+    namespace F = Bubble_mesh_3::internal::front;
+    const Tetrahedron t = tets_[id];
+    tet_alive_[id] = 0;
+    for(int v : t)
+      --tet_count_[v];
+    for(const Triangle& o : F::outward_faces(t)) {
+      auto& list = tets_of_face_[F::sorted(o)];
+      list.erase(std::remove(list.begin(), list.end(), id), list.end());
+      // the space of the tet becomes unmeshed: its faces point into it
+      toggle_face(Triangle{{o[0], o[2], o[1]}});
+    }
+    wake_neighbours(t);
+  }
+
+  /// waiting triangles near a change get another chance
+  void wake_neighbours(const Tetrahedron& t)
+  {
+    Box b = box_of({t[0], t[1], t[2], t[3]});
+    double r = 0;
+    for(int k = 0; k < 3; ++k)
+      r = std::max(r, b.hi[k] - b.lo[k]);
+    b.inflate(param_.search_radius * r);
+    faces_grid_.query(b, [&](int id) {
+      Face& f = faces_[id];
+      if(!f.alive)
+        return;
+      f.fallback_dirty = true;
+      if(f.waiting) {
+        f.waiting = false;
+        queue_.push_back(id);
+      }
+    });
+  }
+
+  // ------------------------------------------------------------- metrics
+  Metric metric_at(const P3& x) const
+  {
+    typedef typename Metric_field::Point_3 Field_point;
+    return Metric(field_(Field_point(x[0], x[1], x[2])));
+  }
+
+  P3 centroid(std::initializer_list<int> ids) const
+  {
+    P3 c{{0, 0, 0}};
+    for(int i : ids)
+      for(int k = 0; k < 3; ++k)
+        c[k] += xyz_[i][k];
+    for(int k = 0; k < 3; ++k)
+      c[k] /= double(ids.size());
+    return c;
+  }
+
+  /// the Euclidean box of the points within metric distance r of x
+  static Box metric_ball_box(const P3& x, double r, const Metric& m)
+  {
+    const Eigen::Matrix3d qi = m.Q_inverse();
+    Box b;
+    for(int k = 0; k < 3; ++k) {
+      const double e = r * qi.row(k).norm();
+      b.lo[k] = x[k] - e;
+      b.hi[k] = x[k] + e;
+    }
+    return b;
+  }
+
+  /// the box of the M-circumsphere of a, b, c, d (false if flat)
+  bool circumsphere_box(const Triangle& f, int d, const Metric& m, Box& out) const
+  {
+    const Eigen::Matrix3d& q = m.Q();
+    auto mapped = [&](int i) {
+      return Eigen::Vector3d(q.template triangularView<Eigen::Upper>() *
+                             Eigen::Vector3d(xyz_[i][0], xyz_[i][1], xyz_[i][2]));
+    };
+    const Eigen::Vector3d a = mapped(f[0]), b = mapped(f[1]), c = mapped(f[2]), e = mapped(d);
+    Eigen::Matrix3d A;
+    A.row(0) = b - a;
+    A.row(1) = c - a;
+    A.row(2) = e - a;
+    const Eigen::Vector3d rhs(0.5 * (b - a).squaredNorm(), 0.5 * (c - a).squaredNorm(), 0.5 * (e - a).squaredNorm());
+    Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
+    if(!lu.isInvertible())
+      return false;
+    const Eigen::Vector3d off = lu.solve(rhs);
+    const double r = off.norm();
+    const Eigen::Vector3d center_mapped = a + off;
+    const Eigen::Vector3d center = q.template triangularView<Eigen::Upper>().solve(center_mapped);
+    if(!std::isfinite(r) || !center.allFinite())
+      return false;
+    out = metric_ball_box(P3{{center[0], center[1], center[2]}}, r * (1 + 1e-9), m);
+    return true;
+  }
+
+  double tet_quality(const Triangle& f, int p) const
+  {
+    namespace BM = Bubble_mesh_3;
+    auto v = [&](int i) { return Eigen::Vector3d(xyz_[i][0], xyz_[i][1], xyz_[i][2]); };
+    const Metric m = metric_at(centroid({f[0], f[1], f[2], p}));
+    return BM::metric_minimum_dihedral_angle(v(f[0]), v(f[1]), v(f[2]), v(p), m);
+  }
+
+  // ---------------------------------------------------------- candidates
+  /// live nodes strictly on the inner side of f within the box
+  void candidates(const Triangle& f, const Box& b, std::vector<int>& out) const
+  {
+    auto orientation = traits_.orientation_3_object();
+    out.clear();
+    nodes_.query(b, [&](int q) {
+      if(q == f[0] || q == f[1] || q == f[2] || !is_alive_node(q))
+        return;
+      if(orientation(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[q]) == CGAL::POSITIVE)
+        out.push_back(q);
+    });
+    std::sort(out.begin(), out.end()); // deterministic order whatever the hash layout
+  }
+
+  Box search_box(const Triangle& f, const Metric& m, double factor) const
+  {
+    const P3 c = centroid({f[0], f[1], f[2]});
+    double longest = 0;
+    for(int k = 0; k < 3; ++k)
+      longest = std::max(longest, m.length(Eigen::Vector3d(xyz_[f[k]][0] - xyz_[f[(k + 1) % 3]][0],
+                                                            xyz_[f[k]][1] - xyz_[f[(k + 1) % 3]][1],
+                                                            xyz_[f[k]][2] - xyz_[f[(k + 1) % 3]][2])));
+    return metric_ball_box(c, factor * param_.search_radius * std::max(0.75, 0.6 * longest), m);
+  }
+
+  /// the node of the modified Delaunay pair of f, or -1
+  int delaunay_node(const Triangle& f)
+  {
+    const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
+    auto side = traits_.side_of_oriented_metric_sphere_SOS_3_object();
+    Box box = search_box(f, m, 1.0);
+    for(int attempt = 0; attempt < 6; ++attempt) {
+      candidates(f, box, cand_);
+      if(cand_.empty()) {
+        box = search_box(f, m, double(2 << attempt));
+        continue;
+      }
+      int best = cand_.front();
+      for(int q : cand_) {
+        if(q == best)
+          continue;
+        if(side(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[best], pts_[q], m, std::size_t(f[0]), std::size_t(f[1]),
+                std::size_t(f[2]), std::size_t(best), std::size_t(q)) == CGAL::ON_POSITIVE_SIDE)
+          best = q;
+      }
+      Box sphere;
+      if(!circumsphere_box(f, best, m, sphere) || box.contains(sphere) || attempt == 5)
+        return best;
+      box.extend(sphere);
+    }
+    return -1;
+  }
+
+  // ---------------------------------------------------------- removability
+  bool removable(int fid, int p)
+  {
+    namespace F = Bubble_mesh_3::internal::front;
+    const Triangle f = faces_[fid].v;
+    if(traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[p]) != CGAL::POSITIVE)
+      return false;
+    const std::array<Triangle, 3> nf = F::new_faces(f, p);
+    std::array<int, 3> partner{{-1, -1, -1}};
+    for(int i = 0; i < 3; ++i) {
+      auto it = face_of_.find(F::sorted(nf[i]));
+      if(it != face_of_.end()) {
+        if(F::same_orientation(faces_[it->second].v, nf[i]))
+          return false; // would double the front over itself
+        partner[i] = it->second;
+      }
+    }
+    const Tetrahedron tet{{f[0], f[1], f[2], p}};
+    const Box b = box_of({f[0], f[1], f[2], p});
+    bool ok = true;
+    faces_grid_.query(b, [&](int gid) {
+      if(!ok || gid == fid || !faces_[gid].alive)
+        return;
+      for(int i = 0; i < 3 && ok; ++i)
+        if(gid != partner[i] && F::triangles_meet_beyond_shared(nf[i], faces_[gid].v, pts_, traits_))
+          ok = false;
+    });
+    if(!ok)
+      return false;
+    nodes_.query(b, [&](int q) {
+      if(!ok || q == f[0] || q == f[1] || q == f[2] || q == p)
+        return;
+      if(F::in_closed_tet(pts_[q], tet, pts_, traits_))
+        ok = false;
+    });
+    return ok;
+  }
+
+  // ------------------------------------------------------------ the loop
+  bool run_queue()
+  {
+    bool progress = false;
+    while(!queue_.empty()) {
+      const int fid = queue_.front();
+      queue_.pop_front();
+      Face& f = faces_[fid];
+      if(!f.alive || f.waiting)
+        continue;
+      const int p = delaunay_node(f.v);
+      if(p >= 0 && removable(fid, p)) {
+        const Triangle v = f.v;
+        add_tet(Tetrahedron{{v[0], v[1], v[2], p}});
+        ++stats_.delaunay_tets;
+        progress = true;
+      } else {
+        faces_[fid].waiting = true;
+        waiting_.push_back(fid);
+      }
+    }
+    return progress;
+  }
+
+  /// the best removable pair of f by quality (cached until something changes nearby)
+  void evaluate_fallback(int fid)
+  {
+    Face& face = faces_[fid];
+    face.fallback_dirty = false;
+    face.fallback_quality = -1;
+    face.fallback_node = -1;
+    const Triangle f = face.v;
+    const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
+    std::vector<std::pair<double, int>> ranked;
+    for(int attempt = 0; attempt < 3 && ranked.empty(); ++attempt) {
+      candidates(f, search_box(f, m, double(1 << attempt)), cand_);
+      for(int q : cand_)
+        ranked.emplace_back(tet_quality(f, q), q);
+    }
+    std::sort(ranked.begin(), ranked.end(),
+              [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+                return a.first > b.first || (a.first == b.first && a.second < b.second);
+              });
+    for(const auto& r : ranked)
+      if(removable(fid, r.second)) {
+        faces_[fid].fallback_quality = r.first;
+        faces_[fid].fallback_node = r.second;
+        return;
+      }
+  }
+
+  bool best_quality_step()
+  {
+    waiting_.erase(std::remove_if(waiting_.begin(), waiting_.end(),
+                                  [&](int id) { return !faces_[id].alive || !faces_[id].waiting; }),
+                   waiting_.end());
+    for(int attempt = 0; attempt < 2; ++attempt) {
+      int best = -1;
+      for(int id : waiting_) {
+        if(faces_[id].fallback_dirty)
+          evaluate_fallback(id);
+        if(faces_[id].fallback_node >= 0 &&
+           (best < 0 || faces_[id].fallback_quality > faces_[best].fallback_quality))
+          best = id;
+      }
+      if(best < 0)
+        return false;
+      const int p = faces_[best].fallback_node;
+      if(removable(best, p)) { // the cache may be stale
+        const Triangle v = faces_[best].v;
+        add_tet(Tetrahedron{{v[0], v[1], v[2], p}});
+        ++stats_.best_quality_tets;
+        return true;
+      }
+      for(int id : waiting_)
+        faces_[id].fallback_dirty = true;
+    }
+    return false;
+  }
+
+  /// undoes `layers` layers of tets next to the front
+  void undo_layers(int layers)
+  {
+    for(int layer = 0; layer < layers; ++layer) {
+      std::vector<int> next;
+      for(const auto& kv : face_of_) {
+        auto it = tets_of_face_.find(kv.first);
+        if(it == tets_of_face_.end())
+          continue;
+        for(int t : it->second)
+          if(tet_alive_[t])
+            next.push_back(t);
+      }
+      std::sort(next.begin(), next.end());
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      for(int t : next)
+        if(tet_alive_[t]) {
+          remove_tet(t);
+          ++stats_.undone_tets;
+        }
+    }
+  }
+
+  /// removable nodes of the alive face with key k, best metric quality first
+  std::vector<int> options(const Triangle& key)
+  {
+    std::vector<int> out;
+    auto it = face_of_.find(key);
+    if(it == face_of_.end())
+      return out;
+    const int fid = it->second;
+    const Triangle f = faces_[fid].v;
+    const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
+    candidates(f, search_box(f, m, 2.0), cand_);
+    std::vector<std::pair<double, int>> ranked;
+    const std::vector<int> cand = cand_;
+    for(int q : cand) {
+      --budget_;
+      if(removable(fid, q))
+        ranked.emplace_back(tet_quality(f, q), q);
+    }
+    std::sort(ranked.begin(), ranked.end(), [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+      return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+    for(const auto& r : ranked)
+      out.push_back(r.second);
+    return out;
+  }
+
+  /// Depth-first search for a tetrahedrization of the cavity whose faces have
+  /// their keys in `keys` (most constrained face first, best quality first).
+  /// On failure everything it did is undone.
+  bool search(std::set<Triangle>& keys)
+  {
+    Triangle chosen{{-1, -1, -1}};
+    std::vector<int> chosen_options;
+    bool any = false;
+    for(const Triangle& k : keys) {
+      if(!face_of_.count(k))
+        continue;
+      any = true;
+      std::vector<int> opts = options(k);
+      if(opts.empty() || budget_ < 0)
+        return false;
+      if(chosen[0] < 0 || opts.size() < chosen_options.size()) {
+        chosen = k;
+        chosen_options = std::move(opts);
+        if(chosen_options.size() == 1)
+          break;
+      }
+    }
+    if(!any)
+      return true;
+    for(int p : chosen_options) {
+      auto it = face_of_.find(chosen);
+      if(it == face_of_.end())
+        return false;
+      const Triangle v = faces_[it->second].v;
+      const int tid = static_cast<int>(tets_.size());
+      const Tetrahedron t{{v[0], v[1], v[2], p}};
+      add_tet(t);
+      std::vector<Triangle> added;
+      for(const Triangle& o : Bubble_mesh_3::internal::front::outward_faces(t)) {
+        const Triangle k = Bubble_mesh_3::internal::front::sorted(o);
+        if(keys.insert(k).second)
+          added.push_back(k);
+      }
+      if(search(keys))
+        return true;
+      remove_tet(tid);
+      for(const Triangle& k : added)
+        keys.erase(k);
+      if(budget_ < 0)
+        return false;
+    }
+    return false;
+  }
+
+  /// undoes `layers` layers around the stuck front, then searches every
+  /// cavity for a tetrahedrization of its enlarged volume
+  void recover(int layers)
+  {
+    ++stats_.undo_rounds;
+    undo_layers(layers);
+    std::vector<Triangle> front;
+    for(const auto& kv : face_of_)
+      front.push_back(faces_[kv.second].v);
+    std::sort(front.begin(), front.end());
+    for(const auto& cavity : Bubble_mesh_3::internal::front::edge_connected_components(front)) {
+      std::set<Triangle> keys;
+      for(const Triangle& f : cavity)
+        keys.insert(Bubble_mesh_3::internal::front::sorted(f));
+      budget_ = 20000;
+      const std::size_t before = tets_.size();
+      if(search(keys))
+        stats_.search_tets += tets_.size() - before;
+    }
+    for(Face& f : faces_)
+      if(f.alive) {
+        f.fallback_dirty = true;
+        f.waiting = false;
+      }
+    queue_.clear();
+    for(const auto& kv : face_of_)
+      queue_.push_back(kv.second);
+    std::sort(queue_.begin(), queue_.end());
+    waiting_.clear();
+  }
+
+  void advance()
+  {
+    int rounds = 0;
+    while(alive_faces_ > 0) {
+      run_queue();
+      if(alive_faces_ == 0)
+        break;
+      if(best_quality_step())
+        continue;
+      if(rounds >= param_.maximum_undo_rounds)
+        break;
+      ++rounds;
+      recover(rounds);
+    }
+  }
+
+  // ------------------------------------------------------------ cavities
+  void fill_cavities()
+  {
+    namespace F = Bubble_mesh_3::internal::front;
+    if(alive_faces_ == 0)
+      return;
+    std::vector<Triangle> remaining;
+    for(const auto& kv : face_of_)
+      remaining.push_back(faces_[kv.second].v);
+    std::sort(remaining.begin(), remaining.end());
+    std::vector<int> free_nodes;
+    for(int v = 0; v < static_cast<int>(pts_.size()); ++v)
+      if(tet_count_[v] == 0 && front_count_[v] == 0)
+        free_nodes.push_back(v);
+    F::Cavity_fill_statistics cs;
+    const std::vector<Tetrahedron> filled =
+        F::fill_cavities(remaining, free_nodes, pts_, param_.allow_steiner_points, traits_, cs);
+    stats_.cavities += cs.cavities;
+    stats_.vertex_star_fills += cs.vertex_star_fills;
+    stats_.steiner_star_fills += cs.steiner_star_fills;
+    stats_.tetgen_fills += cs.tetgen_fills;
+    stats_.steiner_points += pts_.size() - xyz_.size();
+    // the fillers append Steiner points to pts_
+    while(xyz_.size() < pts_.size()) {
+      const Point_3& p = pts_[xyz_.size()];
+      xyz_.push_back({{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}});
+      front_count_.push_back(0);
+      tet_count_.push_back(0);
+    }
+    for(const Tetrahedron& t : filled) {
+      tets_.push_back(t);
+      tet_alive_.push_back(1);
+      for(int v : t)
+        ++tet_count_[v];
+    }
+    stats_.cavity_tets += filled.size();
+    alive_faces_ = 0;
+  }
+
+  void collect(Result& r)
+  {
+    r.points = pts_;
+    for(std::size_t t = 0; t < tets_.size(); ++t)
+      if(tet_alive_[t])
+        r.tets.push_back(tets_[t]);
+    for(int v = 0; v < static_cast<int>(pts_.size()); ++v)
+      if(tet_count_[v] == 0)
+        ++stats_.unused_nodes;
+    r.statistics = stats_;
+  }
+
+  const Metric_field& field_;
+  Parameters param_;
+  Traits traits_;
+
+  std::vector<Point_3> pts_;
+  std::vector<P3> xyz_;
+  double cell_ = 1;
+  Bubble_mesh_3::internal::front::Point_grid nodes_;
+  Bubble_mesh_3::internal::front::Box_grid faces_grid_;
+  std::vector<Face> faces_;
+  std::unordered_map<Triangle, int, Key_hash> face_of_;
+  std::vector<Tetrahedron> tets_;
+  std::vector<char> tet_alive_;
+  std::unordered_map<Triangle, std::vector<int>, Key_hash> tets_of_face_;
+  std::vector<int> front_count_, tet_count_;
+  std::deque<int> queue_;
+  std::vector<int> waiting_;
+  std::vector<int> cand_;
+  long alive_faces_ = 0;
+  long budget_ = 0;
+  Statistics stats_;
+};
+
+} // namespace CGAL
+
+#endif // CGAL_ANISOTROPIC_ADVANCING_FRONT_3_H

@@ -1,0 +1,457 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Anisotropic_advancing_front_3 on its own: given boundary triangles and
+// nodes (made here, not by the packer), the tets must form a valid mesh of
+// the enclosed volume (project validity checker: positive tets, conformity,
+// boundary = the given triangles, volume = enclosed volume), use every inner
+// node, and report how they were made. Convex and non-convex domains, a
+// cavity, a stretched metric, Schönhardt's twisted prism (no tetrahedrization
+// without a Steiner point) and bad boundaries.
+
+#include <CGAL/Anisotropic_advancing_front_3.h>
+#include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
+#include <CGAL/Bubble_mesh_3/Quality_report.h>
+#include <CGAL/Bubble_mesh_3/internal/front/front_geometry.h>
+#include <CGAL/Bubble_mesh_3/validity.h>
+#include <CGAL/Constant_metric_field_3.h>
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <random>
+#include <set>
+#include <vector>
+
+namespace {
+
+typedef CGAL::Epick K;
+typedef K::Point_3 Point;
+typedef CGAL::Constant_metric_field_3<K> Field;
+typedef CGAL::Anisotropic_advancing_front_3<Field> Front;
+typedef CGAL::Bubble_mesh_3::Metric_3 Metric;
+namespace BM = CGAL::Bubble_mesh_3;
+typedef std::array<int, 3> Tri;
+
+struct Domain {
+  std::vector<Point> points;
+  std::vector<Tri> boundary; // outward
+  double volume = 0;
+  std::size_t boundary_nodes = 0;
+};
+
+// A box [0,a]x[0,b]x[0,c] with its faces split into an n-grid (each square
+// in two triangles, outward), boundary nodes first, then `inner` jittered
+// grid nodes strictly inside at spacing ~h.
+Domain box(double a, double b, double c, double h, unsigned seed, double jitter = 0.25)
+{
+  Domain d;
+  std::map<std::array<long, 3>, int> id;
+  const std::array<double, 3> size{{a, b, c}};
+  std::array<int, 3> n;
+  for(int k = 0; k < 3; ++k)
+    n[k] = std::max(1, int(std::lround(size[k] / h)));
+  auto vertex = [&](std::array<int, 3> g) {
+    std::array<long, 3> key{{g[0], g[1], g[2]}};
+    auto it = id.emplace(key, int(d.points.size()));
+    if(it.second)
+      d.points.emplace_back(size[0] * g[0] / n[0], size[1] * g[1] / n[1], size[2] * g[2] / n[2]);
+    return it.first->second;
+  };
+  for(int axis = 0; axis < 3; ++axis)
+    for(int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for(int i = 0; i < n[u]; ++i)
+        for(int j = 0; j < n[v]; ++j) {
+          std::array<int, 3> g00, g10, g11, g01;
+          g00[axis] = g10[axis] = g11[axis] = g01[axis] = side * n[axis];
+          g00[u] = i, g00[v] = j;
+          g10[u] = i + 1, g10[v] = j;
+          g11[u] = i + 1, g11[v] = j + 1;
+          g01[u] = i, g01[v] = j + 1;
+          const int p00 = vertex(g00), p10 = vertex(g10), p11 = vertex(g11), p01 = vertex(g01);
+          // (u, v, axis) is right-handed: counterclockwise in (u, v) faces +axis
+          if(side == 1) {
+            d.boundary.push_back({{p00, p10, p11}});
+            d.boundary.push_back({{p00, p11, p01}});
+          } else {
+            d.boundary.push_back({{p00, p11, p10}});
+            d.boundary.push_back({{p00, p01, p11}});
+          }
+        }
+    }
+  d.boundary_nodes = d.points.size();
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> U(-jitter, jitter);
+  for(int i = 1; i < n[0]; ++i)
+    for(int j = 1; j < n[1]; ++j)
+      for(int k = 1; k < n[2]; ++k)
+        d.points.emplace_back(size[0] * (i + U(gen)) / n[0], size[1] * (j + U(gen)) / n[1],
+                              size[2] * (k + U(gen)) / n[2]);
+  d.volume = a * b * c;
+  return d;
+}
+
+BM::Indexed_tet_mesh_3 as_mesh(const Front::Result& r, const std::vector<Tri>& boundary)
+{
+  BM::Indexed_tet_mesh_3 m;
+  for(const Point& p : r.points)
+    m.points.push_back({{p.x(), p.y(), p.z()}});
+  m.point_refs.assign(m.points.size(), 0);
+  m.tets = r.tets;
+  m.tet_refs.assign(m.tets.size(), 1);
+  m.triangles = boundary;
+  m.triangle_refs.assign(boundary.size(), 1);
+  return m;
+}
+
+BM::Validity_report check(const Front::Result& r, const Domain& d)
+{
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  opt.expected_volume = d.volume;
+  opt.expected_volume_relative_tolerance = 1e-9;
+  const BM::Validity_report rep = BM::check_validity(as_mesh(r, d.boundary), opt);
+  if(!rep.is_valid())
+    BM::print_validity_summary(std::cerr, rep);
+  return rep;
+}
+
+// Random points in a ball; the boundary is their convex hull (hull faces are
+// always Delaunay faces), so the front must rebuild exactly the Delaunay
+// triangulation of the points mapped by Q: compared tet by tet with CGAL's.
+void expect_metric_delaunay(const Metric& m, unsigned seed, int n)
+{
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> N(0, 1);
+  std::uniform_real_distribution<double> U(0, 1);
+  std::vector<Point> pts;
+  for(int i = 0; i < n; ++i) {
+    double x = N(gen), y = N(gen), z = N(gen);
+    const double r = std::cbrt(U(gen)) / std::sqrt(x * x + y * y + z * z);
+    pts.emplace_back(r * x, r * y, r * z);
+  }
+  std::vector<std::pair<Point, int>> mapped;
+  for(int i = 0; i < n; ++i) {
+    const Eigen::Vector3d q = m.map(Eigen::Vector3d(pts[i].x(), pts[i].y(), pts[i].z()));
+    mapped.emplace_back(Point(q[0], q[1], q[2]), i);
+  }
+  typedef CGAL::Triangulation_vertex_base_with_info_3<int, K> Vb;
+  typedef CGAL::Delaunay_triangulation_3<K, CGAL::Triangulation_data_structure_3<Vb>> DTi;
+  DTi dt(mapped.begin(), mapped.end());
+  ASSERT_EQ(dt.number_of_vertices(), std::size_t(n));
+  std::set<std::array<int, 4>> expected;
+  for(auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    std::array<int, 4> t{{c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()}};
+    std::sort(t.begin(), t.end());
+    expected.insert(t);
+  }
+  // hull facets, outward: facet (c, i) of an infinite cell c seen from the finite side
+  Domain d;
+  d.points = pts;
+  for(auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
+    if(!dt.is_infinite(c))
+      continue;
+    const int i = c->index(dt.infinite_vertex());
+    std::array<int, 3> f;
+    for(int k = 0, j = 0; k < 4; ++k)
+      if(k != i)
+        f[j++] = c->vertex(k)->info();
+    d.boundary.push_back(f);
+  }
+  // orient by the centroid of all points (inside the hull)
+  double cx = 0, cy = 0, cz = 0;
+  for(const Point& p : pts)
+    cx += p.x() / n, cy += p.y() / n, cz += p.z() / n;
+  for(Tri& f : d.boundary)
+    if(CGAL::orientation(pts[f[0]], pts[f[1]], pts[f[2]], Point(cx, cy, cz)) == CGAL::POSITIVE)
+      std::swap(f[1], f[2]);
+  double v = 0;
+  for(auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
+    v += std::abs(CGAL::to_double(CGAL::volume(pts[c->vertex(0)->info()], pts[c->vertex(1)->info()],
+                                               pts[c->vertex(2)->info()], pts[c->vertex(3)->info()])));
+  d.volume = v;
+  Field field(m);
+  Front front(field);
+  const Front::Result r = front.run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+  std::set<std::array<int, 4>> got;
+  for(std::array<int, 4> t : r.tets) {
+    std::sort(t.begin(), t.end());
+    got.insert(t);
+  }
+  EXPECT_EQ(r.statistics.delaunay_tets, r.tets.size());
+  EXPECT_EQ(r.statistics.best_quality_tets + r.statistics.undo_rounds + r.statistics.cavities, 0u);
+  EXPECT_TRUE(got == expected) << got.size() << " tets vs " << expected.size() << " Delaunay tets";
+  std::cout << n << " random nodes: " << r.tets.size() << " tets in " << r.statistics.seconds << " s\n";
+}
+
+TEST(AdvancingFront, ConvexHullGivesTheDelaunayTriangulation)
+{
+  expect_metric_delaunay(Metric::isotropic(1.0), 11, 2000);
+}
+
+TEST(AdvancingFront, ConvexHullGivesTheMetricDelaunayTriangulation)
+{
+  // stretched 1:5 along a tilted direction
+  Eigen::Matrix3d r = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  expect_metric_delaunay(Metric::from_directions_and_sizes(r, Eigen::Vector3d(1.0, 0.2, 0.3)), 12, 2000);
+}
+
+TEST(AdvancingFront, UnitCubeIdentityIsValidAndMostlyDelaunay)
+{
+  const Domain d = box(1, 1, 1, 0.2, 1);
+  Field field(Metric::isotropic(0.2));
+  Front front(field);
+  const Front::Result r = front.run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+  const auto& s = r.statistics;
+  EXPECT_EQ(s.unused_nodes, 0u);
+  EXPECT_EQ(s.steiner_points, 0u);
+  EXPECT_EQ(r.points.size(), d.points.size());
+  EXPECT_GT(double(s.delaunay_tets), 0.9 * double(r.tets.size()));
+  std::cout << "cube: " << d.points.size() << " nodes, " << r.tets.size() << " tets, delaunay " << s.delaunay_tets
+            << ", best quality " << s.best_quality_tets << ", undo rounds " << s.undo_rounds << ", search tets " << s.search_tets << ", cavities "
+            << s.cavities << ", " << s.seconds << " s\n";
+}
+
+TEST(AdvancingFront, UnjitteredGridIsCospherical)
+{
+  // every cube of the grid has 8 cospherical nodes: the choice rests on the
+  // symbolic perturbation alone, and must still give a valid mesh
+  const Domain d = box(1, 1, 1, 0.25, 2, 0.0);
+  Field field(Metric::isotropic(0.25));
+  Front front(field);
+  const Front::Result r = front.run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+  EXPECT_EQ(r.statistics.unused_nodes, 0u);
+}
+
+TEST(AdvancingFront, StretchedMetricAlignsTets)
+{
+  // a jittered lattice stretched 4x along x, and the metric that sees it as a
+  // unit lattice: the metric front must give better tets in that metric than
+  // the identity-metric (Euclidean Delaunay) front on the same nodes
+  Domain d = box(1, 1, 1, 0.25, 3, 0.3);
+  for(Point& p : d.points)
+    p = Point(4 * p.x(), p.y(), p.z());
+  d.volume = 4;
+  Field aniso(Metric::from_entries(1.0, 0, 0, 16.0, 0, 16.0));
+  Field iso(Metric::isotropic(0.25));
+  Front front_aniso(aniso), front_iso(iso);
+  const Front::Result ra = front_aniso.run(d.points, d.boundary);
+  const Front::Result ri = front_iso.run(d.points, d.boundary);
+  EXPECT_TRUE(check(ra, d).is_valid());
+  EXPECT_TRUE(check(ri, d).is_valid());
+  const auto qa = BM::compute_quality_report(as_mesh(ra, d.boundary), aniso);
+  const auto qi = BM::compute_quality_report(as_mesh(ri, d.boundary), aniso);
+  std::cout << "stretched: metric worst/mean min dihedral, metric front " << qa.min_dihedral.worst << " / " << qa.min_dihedral.mean
+            << ", identity front " << qi.min_dihedral.worst << " / " << qi.min_dihedral.mean << "\n";
+  EXPECT_GT(qa.min_dihedral.mean, qi.min_dihedral.mean + 5);
+  EXPECT_GT(qa.min_dihedral.worst, qi.min_dihedral.worst);
+}
+
+TEST(AdvancingFront, LShapeNonConvex)
+{
+  // an L-shaped prism: the unit square [0,2]x[0,2] minus [1,2]x[1,2], height 1,
+  // built from 3 unit cubes with their shared faces removed
+  Domain d;
+  const double h = 0.2;
+  const int n = 5;
+  std::map<std::array<long, 3>, int> id;
+  auto vertex = [&](long i, long j, long k) {
+    auto it = id.emplace(std::array<long, 3>{{i, j, k}}, int(d.points.size()));
+    if(it.second)
+      d.points.emplace_back(i * h, j * h, k * h);
+    return it.first->second;
+  };
+  auto inside_l = [&](double x, double y, double z) {
+    return x > 0 && x < 2 && y > 0 && y < 2 && z > 0 && z < 1 && !(x >= 1 && y >= 1);
+  };
+  // boundary: every unit grid square face between an inside cell and an outside cell
+  auto cell_in = [&](long i, long j, long k) {
+    return inside_l((i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h);
+  };
+  for(long i = -1; i < 2 * n; ++i)
+    for(long j = -1; j < 2 * n; ++j)
+      for(long k = -1; k < n; ++k) {
+        const bool in = cell_in(i, j, k);
+        for(int axis = 0; axis < 3; ++axis) {
+          std::array<long, 3> nb{{i, j, k}};
+          nb[axis] += 1;
+          if(in == cell_in(nb[0], nb[1], nb[2]))
+            continue;
+          // the square between cell (i,j,k) and its +axis neighbour
+          const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+          std::array<long, 3> o{{i, j, k}};
+          o[axis] += 1;
+          auto at = [&](int du, int dv) {
+            std::array<long, 3> g = o;
+            g[u] += du;
+            g[v] += dv;
+            return vertex(g[0], g[1], g[2]);
+          };
+          const int p00 = at(0, 0), p10 = at(1, 0), p11 = at(1, 1), p01 = at(0, 1);
+          if(in) { // outward = +axis
+            d.boundary.push_back({{p00, p10, p11}});
+            d.boundary.push_back({{p00, p11, p01}});
+          } else {
+            d.boundary.push_back({{p00, p11, p10}});
+            d.boundary.push_back({{p00, p01, p11}});
+          }
+        }
+      }
+  std::mt19937 gen(4);
+  std::uniform_real_distribution<double> U(-0.2, 0.2);
+  for(long i = 1; i < 2 * n; ++i)
+    for(long j = 1; j < 2 * n; ++j)
+      for(long k = 1; k < n; ++k) {
+        const double x = (i + U(gen)) * h, y = (j + U(gen)) * h, z = (k + U(gen)) * h;
+        if(!(i >= n && j >= n) && inside_l(x, y, z))
+          d.points.emplace_back(x, y, z);
+      }
+  d.volume = 3;
+  Field field(Metric::isotropic(h));
+  Front front(field);
+  const Front::Result r = front.run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+  EXPECT_EQ(r.statistics.unused_nodes, 0u);
+}
+
+TEST(AdvancingFront, CavityInsideBox)
+{
+  // a box with an inner box-shaped hole: two boundary components, the inner
+  // one oriented towards the hole
+  Domain outer = box(3, 3, 3, 0.5, 5);
+  const Domain inner = box(1, 1, 1, 0.5, 6);
+  Domain d;
+  d.points.assign(outer.points.begin(), outer.points.begin() + outer.boundary_nodes);
+  d.boundary = outer.boundary;
+  const int off = int(d.points.size());
+  for(std::size_t i = 0; i < inner.boundary_nodes; ++i)
+    d.points.emplace_back(inner.points[i].x() + 1, inner.points[i].y() + 1, inner.points[i].z() + 1);
+  for(const Tri& t : inner.boundary)
+    d.boundary.push_back({{t[0] + off, t[2] + off, t[1] + off}}); // reversed: the hole is outside
+  for(std::size_t i = outer.boundary_nodes; i < outer.points.size(); ++i) {
+    const Point& p = outer.points[i];
+    const bool in_hole = p.x() > 0.9 && p.x() < 2.1 && p.y() > 0.9 && p.y() < 2.1 && p.z() > 0.9 && p.z() < 2.1;
+    if(!in_hole)
+      d.points.push_back(p);
+  }
+  d.volume = 27 - 1;
+  Field field(Metric::isotropic(0.5));
+  Front front(field);
+  const Front::Result r = front.run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+  EXPECT_EQ(r.statistics.unused_nodes, 0u);
+}
+
+// Schönhardt's polyhedron: a triangular prism whose top is twisted by 30
+// degrees; its boundary (the three side quads split along the "reflex"
+// diagonals) admits no tetrahedrization without a Steiner point.
+Domain schoenhardt()
+{
+  Domain d;
+  const double pi = std::acos(-1.0);
+  for(int k = 0; k < 3; ++k)
+    d.points.emplace_back(std::cos(2 * pi * k / 3), std::sin(2 * pi * k / 3), 0);
+  for(int k = 0; k < 3; ++k)
+    d.points.emplace_back(std::cos(2 * pi * k / 3 + pi / 6), std::sin(2 * pi * k / 3 + pi / 6), 1.0);
+  d.boundary = {{{0, 2, 1}}, {{3, 4, 5}}};
+  for(int k = 0; k < 3; ++k) {
+    const int a = k, b = (k + 1) % 3, a2 = 3 + k, b2 = 3 + (k + 1) % 3;
+    // side quad a b b2 a2 (outward), split along the diagonal a-b2
+    d.boundary.push_back({{a, b, b2}});
+    d.boundary.push_back({{a, b2, a2}});
+  }
+  // volume by the divergence theorem
+  double v = 0;
+  for(const Tri& t : d.boundary) {
+    const Point& p = d.points[t[0]];
+    const Point& q = d.points[t[1]];
+    const Point& r = d.points[t[2]];
+    v += CGAL::to_double(CGAL::determinant(p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), r.x(), r.y(), r.z())) / 6;
+  }
+  d.volume = v;
+  d.boundary_nodes = 6;
+  return d;
+}
+
+TEST(AdvancingFront, SchoenhardtPrismNeedsOneSteinerPoint)
+{
+  Domain d = schoenhardt();
+  ASSERT_GT(d.volume, 0);
+  // the split along a-b2 must be the non-convex (reflex) one: check that no tet
+  // of the 6 vertices is removable at the start, i.e. the prism is untetrahedralizable
+  Field field(Metric::isotropic(1.0));
+  Front front(field);
+  const Front::Result r = front.run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+  EXPECT_EQ(r.statistics.cavities, 1u);
+  EXPECT_EQ(r.statistics.steiner_points, 1u);
+  EXPECT_EQ(r.points.size(), 7u);
+  EXPECT_EQ(r.statistics.delaunay_tets + r.statistics.best_quality_tets, 0u);
+}
+
+TEST(AdvancingFront, WithoutSteinerPointsSchoenhardtFails)
+{
+  Domain d = schoenhardt();
+  Field field(Metric::isotropic(1.0));
+  Front::Parameters p;
+  p.allow_steiner_points = false;
+  Front front(field, p);
+  EXPECT_THROW(front.run(d.points, d.boundary), BM::Meshing_failure);
+}
+
+TEST(AdvancingFront, RefusesOpenOrInconsistentBoundary)
+{
+  Domain d = box(1, 1, 1, 0.5, 7);
+  Field field(Metric::isotropic(0.5));
+  Front front(field);
+  std::vector<Tri> open = d.boundary;
+  open.pop_back();
+  EXPECT_THROW(front.run(d.points, open), BM::Invalid_input);
+  std::vector<Tri> flipped = d.boundary;
+  std::swap(flipped[0][1], flipped[0][2]);
+  EXPECT_THROW(front.run(d.points, flipped), BM::Invalid_input);
+  std::vector<Tri> missing = d.boundary;
+  missing[0][0] = int(d.points.size());
+  EXPECT_THROW(front.run(d.points, missing), BM::Invalid_input);
+}
+
+TEST(FrontGeometry, TrianglesSharingVerticesOrNot)
+{
+  std::vector<Point> p = {Point(0, 0, 0), Point(1, 0, 0), Point(0, 1, 0), Point(1, 1, 0),
+                          Point(0.2, 0.2, 0), Point(0.2, 0.2, 1), Point(0.2, 0.2, -1), Point(-1, -1, 0)};
+  namespace F = BM::internal::front;
+  K k;
+  // shared edge, coplanar, opposite sides: fine; same side: overlap
+  EXPECT_FALSE(F::triangles_meet_beyond_shared(Tri{{0, 1, 2}}, Tri{{1, 2, 3}}, p, k));
+  EXPECT_TRUE(F::triangles_meet_beyond_shared(Tri{{0, 1, 2}}, Tri{{1, 2, 4}}, p, k));
+  // shared edge, not coplanar
+  EXPECT_FALSE(F::triangles_meet_beyond_shared(Tri{{0, 1, 2}}, Tri{{1, 2, 5}}, p, k));
+  // shared vertex 0, the other's far edge pierces: (0, 5, 6) crosses the plane at (0.2, 0.2, 0) inside (0,1,2)
+  EXPECT_TRUE(F::triangles_meet_beyond_shared(Tri{{0, 1, 2}}, Tri{{0, 5, 6}}, p, k));
+  // shared vertex 0, coplanar, pointing away
+  EXPECT_FALSE(F::triangles_meet_beyond_shared(Tri{{1, 0, 2}}, Tri{{0, 7, 6}}, p, k));
+  // no shared vertex, crossing
+  EXPECT_TRUE(F::triangles_meet_beyond_shared(Tri{{0, 1, 2}}, Tri{{3, 5, 6}}, p, k) ==
+              CGAL::do_intersect(K::Triangle_3(p[0], p[1], p[2]), K::Triangle_3(p[3], p[5], p[6])));
+  // closed point-in-tet: on a face counts
+  std::vector<Point> q = {Point(0, 0, 0), Point(1, 0, 0), Point(0, 1, 0), Point(0, 0, 1), Point(0.2, 0.2, 0),
+                          Point(0.2, 0.2, 0.2), Point(1, 1, 1)};
+  EXPECT_TRUE(F::in_closed_tet(q[4], {{0, 1, 2, 3}}, q, k));
+  EXPECT_TRUE(F::in_closed_tet(q[5], {{0, 1, 2, 3}}, q, k));
+  EXPECT_FALSE(F::in_closed_tet(q[6], {{0, 1, 2, 3}}, q, k));
+}
+
+} // namespace
