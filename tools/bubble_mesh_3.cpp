@@ -3,6 +3,7 @@
 // Exit codes: 0 success, 2 invalid input or usage (one line on stderr),
 // 3 internal failure.
 #include <CGAL/Bubble_mesh_3/IO/medit.h>
+#include <CGAL/Bubble_mesh_3/IO/read_triangle_surface.h>
 #include <CGAL/Bubble_mesh_3/IO/sol.h>
 #include <CGAL/Bubble_mesh_3/IO/vtu.h>
 #include <CGAL/Bubble_mesh_3/IO/write_file_atomically.h>
@@ -14,6 +15,13 @@
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interpolated_metric_field_3.h>
+#include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/boost/graph/copy_face_graph.h>
+#include <CGAL/make_anisotropic_mesh_3.h>
+
+#include <chrono>
+#include <iomanip>
 
 #include <cerrno>
 #include <cmath>
@@ -38,6 +46,18 @@ const char* const usage_text =
     "bubble_mesh_3 - anisotropic tetrahedral meshing by ellipsoidal bubble packing\n"
     "\n"
     "Usage:\n"
+    "  bubble_mesh_3 SURFACE -o OUT.mesh [METRIC] [--vtu OUT.vtu] [--feature-angle DEG]\n"
+    "                [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
+    "                [--max-nodes N] [--quiet]\n"
+    "      Mesh the volume inside a closed triangle surface (OFF, OBJ, STL, PLY):\n"
+    "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
+    "      at more than DEG degrees from flat, default 60), surface patches and the\n"
+    "      interior, then an anisotropic advancing front. Progress goes to stderr,\n"
+    "      a summary (nodes, tets, times, metric quality) to stdout. Without a\n"
+    "      METRIC the size is 1/20 of the bounding box diagonal. The mesh (MEDIT,\n"
+    "      with boundary patches, feature edges and corners) is written only when\n"
+    "      it is complete and valid. --max-nodes refuses larger node estimates\n"
+    "      (default 5e7). Exit 3 when no valid mesh could be made.\n"
     "  bubble_mesh_3 eval MESH.mesh [METRIC] [--report R.json] [--vtu OUT.vtu]\n"
     "                [--histogram H.svg] [--title TEXT] [--quiet] [--require-valid]\n"
     "      Quality report of any tetrahedral mesh in MEDIT format (also from TetGen\n"
@@ -63,9 +83,7 @@ const char* const usage_text =
     "Quality is the minimum dihedral angle of each tet after mapping it by Q,\n"
     "M(centroid) = Q^T Q. Edge lengths are in the metric; the target is 1.\n"
     "\n"
-    "Exit codes: 0 success, 2 invalid input or usage, 3 internal failure.\n"
-    "(Meshing a surface, `bubble_mesh_3 SURFACE -o OUT.mesh`, arrives with the\n"
-    "advancing front.)\n";
+    "Exit codes: 0 success, 2 invalid input or usage, 3 meshing or internal failure.\n";
 
 // Usage errors are invalid input too: one line, exit 2.
 struct Usage_error : Invalid_input {
@@ -133,7 +151,7 @@ std::string file_name(const std::string& path)
 // interface so that every subcommand evaluates the same way.
 class Command_line_metric {
 public:
-  static Command_line_metric from_options(const Options& o)
+  static Command_line_metric from_options(const Options& o, double default_size = 0)
   {
     Command_line_metric m;
     const int given = int(o.has("--size")) + int(o.has("--metric-const")) +
@@ -162,6 +180,11 @@ public:
           CGAL::Interpolated_metric_field_3<K>::from_files(o.get("--metric-mesh"), o.get("--metric-sol")));
       m.description_ = "interpolated from " + file_name(o.get("--metric-mesh")) + " + " +
                        file_name(o.get("--metric-sol"));
+    } else if(default_size > 0) {
+      m.constant_ = CGAL::Constant_metric_field_3<K>(Metric_3::isotropic(default_size, "default size"));
+      std::ostringstream d;
+      d << "isotropic size " << default_size << " (default: bounding box diagonal / 20)";
+      m.description_ = d.str();
     } else {
       m.description_ = "identity";
     }
@@ -252,6 +275,107 @@ int run_convert(int argc, char** argv)
   return 0;
 }
 
+int parse_count(const std::string& text, const std::string& what)
+{
+  const double v = parse_number(text, what);
+  if(!(v >= 0) || v != std::floor(v) || v > 1e9)
+    throw Usage_error(what + ": '" + text + "' is not a non-negative integer");
+  return static_cast<int>(v);
+}
+
+int run_mesh(int argc, char** argv)
+{
+  typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
+  namespace BM = CGAL::Bubble_mesh_3;
+  const Options o = parse_options(argc, argv, 1,
+                                  {"-o", "--vtu", "--size", "--metric-const", "--metric-mesh", "--metric-sol",
+                                   "--feature-angle", "--report", "--histogram", "--seed", "--threads", "--max-nodes"},
+                                  {"--quiet"});
+  if(o.positional.size() != 1)
+    throw Usage_error("give exactly one SURFACE file (see bubble_mesh_3 --help)");
+  if(!o.has("-o"))
+    throw Usage_error("missing -o OUT.mesh");
+  const std::string out = o.get("-o");
+  if(!ends_with(out, ".mesh"))
+    throw Usage_error("-o: '" + out + "' must end in .mesh");
+  if(o.has("--vtu") && !ends_with(o.get("--vtu"), ".vtu"))
+    throw Usage_error("--vtu: '" + o.get("--vtu") + "' must end in .vtu");
+  const double angle = o.has("--feature-angle") ? parse_number(o.get("--feature-angle"), "--feature-angle") : 60.0;
+  if(!(angle >= 0 && angle <= 180))
+    throw Usage_error("--feature-angle must be between 0 and 180 degrees");
+  const unsigned seed = o.has("--seed") ? unsigned(parse_count(o.get("--seed"), "--seed")) : 0u;
+  const int threads = o.has("--threads") ? parse_count(o.get("--threads"), "--threads") : 0;
+  const double max_nodes = o.has("--max-nodes") ? parse_number(o.get("--max-nodes"), "--max-nodes") : 5e7;
+  if(!(max_nodes > 0))
+    throw Usage_error("--max-nodes must be positive");
+  const bool quiet = o.has("--quiet");
+  const auto t0 = std::chrono::steady_clock::now();
+  auto progress = [&](const std::string& message) {
+    if(quiet)
+      return;
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::ostringstream line;
+    line << "[" << std::fixed << std::setprecision(1) << std::setw(7) << t << " s] " << message << "\n";
+    std::cerr << line.str();
+  };
+
+  const std::string surface_path = o.positional[0];
+  const CGAL::Surface_mesh<K::Point_3> surface = BIO::read_triangle_surface<K>(surface_path);
+  Domain::Polyhedron polyhedron;
+  CGAL::copy_face_graph(surface, polyhedron);
+  const CGAL::Bbox_3 bb = CGAL::Polygon_mesh_processing::bbox(surface);
+  const double diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
+                                    CGAL::square(bb.zmax() - bb.zmin()));
+  progress("read " + file_name(surface_path) + ": " + std::to_string(surface.number_of_vertices()) + " vertices, " +
+           std::to_string(surface.number_of_faces()) + " triangles");
+  Domain domain(polyhedron);
+  domain.detect_features(angle);
+  const Command_line_metric metric = Command_line_metric::from_options(o, diagonal / 20);
+  progress("metric: " + metric.description());
+
+  BM::Meshing_report meshing;
+  Indexed_tet_mesh_3 mesh;
+  BM::Quality_report quality;
+  std::vector<double> per_tet;
+  try {
+    metric.visit([&](const auto& field) {
+      mesh = BM::make_indexed_anisotropic_mesh_3(
+          domain, field,
+          BM::parameters::random_seed(seed)
+              .number_of_threads(threads)
+              .maximum_number_of_bubbles(max_nodes)
+              .meshing_report(&meshing)
+              .callback(std::function<void(const std::string&)>(progress)));
+      quality = BM::compute_quality_report(mesh, field);
+      if(o.has("--vtu"))
+        per_tet = BM::metric_minimum_dihedral_angles(mesh, field);
+      return 0;
+    });
+  } catch(const BM::Meshing_failure& e) {
+    std::cerr << "bubble_mesh_3: meshing failed: " << e.what() << "\n";
+    return 3;
+  }
+  quality.metric_description = metric.description();
+  BIO::write_medit(out, mesh);
+  progress("wrote " + out);
+  if(o.has("--vtu")) {
+    BIO::write_vtu(o.get("--vtu"), mesh, {{"min_dihedral", per_tet}});
+    progress("wrote " + o.get("--vtu"));
+  }
+  if(o.has("--report")) {
+    std::string json = BM::to_json(quality);
+    json.insert(json.rfind("\n}"), ",\n  \"meshing\": " + BM::to_json(meshing));
+    BIO::write_text_file(o.get("--report"), json + "\n");
+  }
+  if(o.has("--histogram"))
+    BM::write_histogram_svg(o.get("--histogram"), quality, file_name(surface_path) + ", " + metric.description());
+  if(!quiet) {
+    BM::print_meshing_summary(std::cout, meshing);
+    BM::print_quality_summary(std::cout, quality);
+  }
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -272,6 +396,8 @@ int main(int argc, char** argv)
       return run_eval(argc, argv);
     if(command == "convert")
       return run_convert(argc, argv);
+    if(!command.empty() && command[0] != '-')
+      return run_mesh(argc, argv);
     throw Usage_error("unknown command '" + command + "' (see bubble_mesh_3 --help)");
   } catch(const Invalid_input& e) {
     std::cerr << "bubble_mesh_3: error: " << e.what() << "\n";

@@ -46,7 +46,7 @@ cube="$data/cube6.mesh"
 expect help 0 "" -- "$tool" --help
 check "help mentions eval" grep -q "bubble_mesh_3 eval" "$work/out.txt"
 expect no-args 2 "missing command" -- "$tool"
-expect unknown-command 2 "unknown command 'frobnicate'" -- "$tool" frobnicate
+expect unknown-command-is-a-missing-surface 2 "frobnicate" -- "$tool" frobnicate -o "$work/x.mesh"
 expect unknown-option 2 "unknown option '--bogus'" -- "$tool" eval "$cube" --bogus
 
 # A good evaluation: the unit cube in 6 tets (Kuhn), identity metric.

@@ -1,0 +1,77 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Named parameters of make_anisotropic_mesh_3. The package's own tags live in
+// CGAL::Bubble_mesh_3::internal_np; a thin class derived from CGAL's
+// Named_function_parameters chains them with the CGAL tags the package reuses
+// (cgal_conventions.md 4.4), so
+//   CGAL::Bubble_mesh_3::parameters::number_of_threads(2).random_seed(7)
+// and CGAL::parameters::random_seed(7) both work.
+#ifndef CGAL_BUBBLE_MESH_3_PARAMETERS_H
+#define CGAL_BUBBLE_MESH_3_PARAMETERS_H
+
+#include <CGAL/Named_function_parameters.h>
+
+namespace CGAL {
+namespace Bubble_mesh_3 {
+namespace internal_np {
+enum number_of_threads_t { number_of_threads };
+enum maximum_number_of_bubbles_t { maximum_number_of_bubbles };
+enum allow_steiner_points_t { allow_steiner_points };
+enum meshing_report_t { meshing_report };
+} // namespace internal_np
+
+/// Named parameters: CGAL's, plus the package's own options as chaining members.
+template <typename T, typename Tag, typename Base = CGAL::internal_np::No_property>
+struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base> {
+  typedef CGAL::Named_function_parameters<T, Tag, Base> Cgal_base;
+  typedef Named_function_parameters<T, Tag, Base> self;
+  Named_function_parameters() : Cgal_base() {}
+  Named_function_parameters(const T& v) : Cgal_base(v) {}
+  Named_function_parameters(const T& v, const Base& b) : Cgal_base(v, b) {}
+
+#define CGAL_BUBBLE_MESH_3_MEMBER(NS, TAG)                                                                        \
+  template <typename K>                                                                                          \
+  Named_function_parameters<K, NS::TAG##_t, self> TAG(const K& k) const                                          \
+  {                                                                                                              \
+    return Named_function_parameters<K, NS::TAG##_t, self>(k, *this);                                            \
+  }
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, number_of_threads)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, maximum_number_of_bubbles)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, allow_steiner_points)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, meshing_report)
+  CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
+  CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
+  CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
+  CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, verbose)
+#undef CGAL_BUBBLE_MESH_3_MEMBER
+};
+
+namespace parameters {
+#define CGAL_BUBBLE_MESH_3_FREE(NS, TAG)                                                                          \
+  template <typename K>                                                                                          \
+  Named_function_parameters<K, NS::TAG##_t> TAG(const K& k)                                                      \
+  {                                                                                                              \
+    return Named_function_parameters<K, NS::TAG##_t>(k);                                                         \
+  }
+/// number of threads of the packing (0: all, 1: serial); the mesh does not depend on it
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, number_of_threads)
+/// refuse (Invalid_input) when the estimated node count exceeds this (default 5e7)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, maximum_number_of_bubbles)
+/// whether the front may add Steiner points strictly inside cavities it cannot close (default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, allow_steiner_points)
+/// a `Bubble_mesh_3::Meshing_report*` filled with counts and times of every stage
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, meshing_report)
+CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
+CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
+CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, callback)
+CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, verbose)
+#undef CGAL_BUBBLE_MESH_3_FREE
+} // namespace parameters
+
+} // namespace Bubble_mesh_3
+} // namespace CGAL
+
+#endif // CGAL_BUBBLE_MESH_3_PARAMETERS_H

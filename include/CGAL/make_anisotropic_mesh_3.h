@@ -1,0 +1,441 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#ifndef CGAL_MAKE_ANISOTROPIC_MESH_3_H
+#define CGAL_MAKE_ANISOTROPIC_MESH_3_H
+
+#include <CGAL/Anisotropic_advancing_front_3.h>
+#include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
+#include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/internal/c3t3/exterior_padding.h>
+#include <CGAL/Bubble_mesh_3/internal/c3t3/tet_soup_to_c3t3.h>
+#include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
+#include <CGAL/Bubble_mesh_3/internal/json.h>
+#include <CGAL/Bubble_mesh_3/parameters.h>
+#include <CGAL/Bubble_mesh_3/validity.h>
+#include <CGAL/Bubble_packer_3.h>
+
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/Triangulation_3.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <ostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace CGAL {
+
+/// \ingroup PkgBubbleMesh3Classes
+/// The triangulation type to put in the `Mesh_complex_3_in_triangulation_3`
+/// filled by `make_anisotropic_mesh_3()`: a plain `Triangulation_3` over
+/// Mesh_3's geometric traits and data structure. A regular triangulation
+/// (Mesh_3's default) asserts in debug builds when it holds a mesh that is not
+/// regular, which an anisotropic mesh is not (cgal_conventions.md 6); this
+/// type holds any valid mesh and works with `output_to_medit()`,
+/// `output_to_vtu()` and the C3T3 iterators.
+template <typename MeshDomain>
+struct Anisotropic_mesh_triangulation_3 {
+  typedef typename CGAL::Mesh_triangulation_3<MeshDomain>::type Mesh_3_triangulation;
+  typedef CGAL::Triangulation_3<typename Mesh_3_triangulation::Geom_traits,
+                                typename Mesh_3_triangulation::Triangulation_data_structure>
+      type;
+};
+
+namespace Bubble_mesh_3 {
+
+/// \ingroup PkgBubbleMesh3Classes
+/// What `make_anisotropic_mesh_3()` did: counts and seconds per stage.
+struct Meshing_report {
+  std::array<std::size_t, 4> nodes{{0, 0, 0, 0}}; ///< packed nodes per dimension (corner, curve, patch, interior)
+  std::array<double, 4> packing_seconds{{0, 0, 0, 0}};
+  std::array<int, 4> packing_iterations{{0, 0, 0, 0}};
+  std::array<bool, 4> packing_converged{{true, true, true, true}};
+  double estimated_nodes = 0;
+  std::size_t boundary_triangles = 0;
+  double boundary_seconds = 0;
+  std::size_t tets = 0;
+  std::size_t delaunay_tets = 0, best_quality_tets = 0, undo_rounds = 0, undone_tets = 0, search_tets = 0;
+  std::size_t cavities = 0, cavity_tets = 0, steiner_points = 0, unused_nodes = 0;
+  double front_seconds = 0;
+  double validity_seconds = 0;
+  double c3t3_seconds = 0; ///< padding and conversion (make_anisotropic_mesh_3 only)
+  std::size_t padding_tets = 0;
+  double total_seconds = 0;
+};
+
+/// \ingroup PkgBubbleMesh3Functions
+/// The report as a JSON object.
+inline std::string to_json(const Meshing_report& r)
+{
+  using internal::format_json_number;
+  auto num = [](double x) { return format_json_number(x); };
+  auto arr = [&](const auto& a) {
+    std::string s = "[";
+    for(std::size_t i = 0; i < a.size(); ++i)
+      s += (i ? ", " : "") + num(double(a[i]));
+    return s + "]";
+  };
+  std::string conv = "[";
+  for(std::size_t i = 0; i < 4; ++i)
+    conv += std::string(i ? ", " : "") + (r.packing_converged[i] ? "true" : "false");
+  conv += "]";
+  std::ostringstream o;
+  o << "{\n    \"estimated_nodes\": " << num(r.estimated_nodes) << ",\n    \"nodes_per_dimension\": " << arr(r.nodes)
+    << ",\n    \"packing_seconds\": " << arr(r.packing_seconds) << ",\n    \"packing_iterations\": "
+    << arr(r.packing_iterations) << ",\n    \"packing_converged\": " << conv
+    << ",\n    \"boundary_triangles\": " << r.boundary_triangles << ",\n    \"boundary_seconds\": "
+    << num(r.boundary_seconds) << ",\n    \"tets\": " << r.tets << ",\n    \"delaunay_tets\": " << r.delaunay_tets
+    << ",\n    \"best_quality_tets\": " << r.best_quality_tets << ",\n    \"undo_rounds\": " << r.undo_rounds
+    << ",\n    \"undone_tets\": " << r.undone_tets << ",\n    \"search_tets\": " << r.search_tets
+    << ",\n    \"cavities\": " << r.cavities << ",\n    \"cavity_tets\": " << r.cavity_tets
+    << ",\n    \"steiner_points\": " << r.steiner_points << ",\n    \"front_seconds\": " << num(r.front_seconds)
+    << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"total_seconds\": "
+    << num(r.total_seconds) << "\n  }";
+  return o.str();
+}
+
+/// \ingroup PkgBubbleMesh3Functions
+/// A few lines: nodes, tets, how the front made them, seconds per stage.
+inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
+{
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(2);
+  o << "nodes:    " << r.nodes[0] + r.nodes[1] + r.nodes[2] + r.nodes[3] << " (corners " << r.nodes[0] << ", curves "
+    << r.nodes[1] << ", surfaces " << r.nodes[2] << ", interior " << r.nodes[3] << "; estimate "
+    << std::llround(r.estimated_nodes) << ")\n";
+  o << "packing:  " << r.packing_seconds[1] << " s curves, " << r.packing_seconds[2] << " s surfaces, "
+    << r.packing_seconds[3] << " s interior (iterations " << r.packing_iterations[1] << "/" << r.packing_iterations[2]
+    << "/" << r.packing_iterations[3] << (r.packing_converged[1] && r.packing_converged[2] && r.packing_converged[3]
+                                               ? ", converged"
+                                               : ", iteration cap reached")
+    << ")\n";
+  o << "boundary: " << r.boundary_triangles << " triangles, " << r.boundary_seconds << " s\n";
+  o << "front:    " << r.tets << " tets, " << r.front_seconds << " s (modified Delaunay " << r.delaunay_tets
+    << ", best quality " << r.best_quality_tets << ", undo rounds " << r.undo_rounds << ", cavities " << r.cavities
+    << ", Steiner points " << r.steiner_points << ")\n";
+  o << "total:    " << r.total_seconds << " s\n";
+  out << o.str();
+}
+
+namespace internal {
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The settings resolved from the named parameters.
+struct Meshing_settings {
+  unsigned int seed = 0;
+  int threads = 0;
+  int iterations = 400;
+  double maximum_bubbles = 5e7;
+  bool allow_steiner = true;
+  bool verbose = false;
+  std::function<void(const std::string&)> progress;
+  Meshing_report* report = nullptr;
+};
+
+template <typename NP>
+Meshing_settings resolve_settings(const NP& np)
+{
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  Meshing_settings s;
+  s.seed = choose_parameter(get_parameter(np, CGAL::internal_np::random_seed), 0u);
+  s.threads = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::number_of_threads), 0);
+  s.iterations = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 400);
+  s.maximum_bubbles = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::maximum_number_of_bubbles), 5e7);
+  s.allow_steiner = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::allow_steiner_points), true);
+  s.verbose = choose_parameter(get_parameter(np, CGAL::internal_np::verbose), false);
+  s.progress = choose_parameter(get_parameter(np, CGAL::internal_np::callback),
+                                std::function<void(const std::string&)>());
+  s.report = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::meshing_report),
+                              static_cast<Meshing_report*>(nullptr));
+  return s;
+}
+
+/// Where each vertex of the domain mesh lies in the domain (for the C3T3).
+struct Domain_mesh {
+  Indexed_tet_mesh_3 mesh;
+  std::vector<C3t3_vertex_location> locations;
+};
+
+/// The whole pipeline up to the domain's tet mesh: packing, boundary front,
+/// advancing front, validity.
+template <typename MeshDomain, typename MetricField>
+Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, const Meshing_settings& s)
+{
+  namespace F = Bubble_mesh_3::internal::front;
+  typedef typename MetricField::Kernel K;
+  typedef typename MeshDomain::Curve_index Curve_index;
+  const auto t_start = std::chrono::steady_clock::now();
+  Meshing_report local_report;
+  Meshing_report& rep = s.report ? *s.report : local_report;
+  rep = Meshing_report();
+  auto say = [&](const std::string& m) {
+    if(s.progress)
+      s.progress(m);
+  };
+
+  // 1. packing
+  typedef CGAL::Bubble_packer_3<MeshDomain, MetricField> Packer;
+  typename Packer::Parameters pp;
+  pp.seed = s.seed;
+  pp.number_of_threads = s.threads;
+  pp.maximum_iterations = s.iterations;
+  pp.maximum_number_of_bubbles = s.maximum_bubbles;
+  Packer packer(domain, field, pp);
+  rep.estimated_nodes = packer.estimated_number_of_bubbles();
+  say("estimated nodes: " + std::to_string(std::llround(rep.estimated_nodes)));
+  const char* stage_names[4] = {"corners", "curves", "surfaces", "volume"};
+  for(int d = 0; d < 4; ++d) {
+    switch(d) {
+    case 0: packer.pack_corners(); break;
+    case 1: packer.pack_curves(); break;
+    case 2: packer.pack_surfaces(); break;
+    default: packer.pack_volume(); break;
+    }
+    const auto& st = packer.statistics().stages[d];
+    rep.nodes[d] = st.bubbles;
+    rep.packing_seconds[d] = st.seconds;
+    rep.packing_iterations[d] = st.iterations;
+    rep.packing_converged[d] = st.converged;
+    say(std::string("packed ") + stage_names[d] + ": " + std::to_string(st.bubbles) + " bubbles, " +
+        std::to_string(st.iterations) + " iterations, " + std::to_string(st.seconds) + " s");
+  }
+  const auto nodes = packer.nodes();
+
+  // 2. boundary front on the surface nodes (they come first in the point list)
+  auto t0 = std::chrono::steady_clock::now();
+  const F::Boundary_surface surface = F::boundary_surface_from_polyhedral_domain(domain);
+  std::vector<F::Boundary_node> bnodes;
+  std::vector<int> point_of_node(nodes.size(), -1);
+  Domain_mesh out;
+  Indexed_tet_mesh_3& m = out.mesh;
+  std::vector<typename Anisotropic_advancing_front_3<MetricField>::Point_3> points;
+  auto add_point = [&](const typename K::Point_3& p, int dim, int index) {
+    const double x = CGAL::to_double(p.x()), y = CGAL::to_double(p.y()), z = CGAL::to_double(p.z());
+    points.emplace_back(x, y, z);
+    m.points.push_back({{x, y, z}});
+    m.point_refs.push_back(index);
+    out.locations.push_back(C3t3_vertex_location{dim, index});
+  };
+  for(std::size_t i = 0; i < nodes.size(); ++i) {
+    const auto& n = nodes[i];
+    if(n.dimension > 2)
+      continue;
+    int index = 0;
+    if(n.dimension == 0)
+      index = static_cast<int>(domain.corner_index(n.index));
+    else if(n.dimension == 1)
+      index = static_cast<int>(domain.curve_index(n.index));
+    else
+      index = static_cast<int>(domain.surface_patch_index(n.index));
+    F::Boundary_node b;
+    b.point = {{CGAL::to_double(n.point.x()), CGAL::to_double(n.point.y()), CGAL::to_double(n.point.z())}};
+    b.dimension = n.dimension;
+    b.patch = n.dimension == 2 ? index : -1;
+    bnodes.push_back(b);
+    point_of_node[i] = static_cast<int>(points.size());
+    add_point(n.point, n.dimension, index);
+    if(n.dimension == 0)
+      m.corners.push_back(point_of_node[i]);
+  }
+  const F::Boundary_front bf = F::build_boundary_front(surface, bnodes, field);
+  rep.boundary_triangles = bf.triangles.size();
+  rep.boundary_seconds = seconds_since(t0);
+  say("boundary front: " + std::to_string(bf.triangles.size()) + " triangles, " + std::to_string(rep.boundary_seconds) +
+      " s");
+  m.triangles = bf.triangles;
+  m.triangle_refs = bf.patches;
+  // feature edges: the curve of a curve node, or the curve joining two corners
+  {
+    std::vector<std::tuple<Curve_index, std::pair<typename K::Point_3, typename MeshDomain::Index>,
+                           std::pair<typename K::Point_3, typename MeshDomain::Index>>>
+        curves;
+    domain.get_curves(std::back_inserter(curves));
+    for(const auto& e : bf.feature_edges) {
+      int curve = -1;
+      for(int v : e)
+        if(out.locations[v].dimension == 1)
+          curve = out.locations[v].index;
+      if(curve < 0) {
+        // two corners: the curve whose ends they are, the closest in length
+        double best = std::numeric_limits<double>::max();
+        const double len = std::sqrt(CGAL::squared_distance(points[e[0]], points[e[1]]));
+        for(const auto& c : curves) {
+          const auto& a = std::get<1>(c).first;
+          const auto& b = std::get<2>(c).first;
+          auto same = [](const typename K::Point_3& p, const typename Anisotropic_advancing_front_3<MetricField>::Point_3& q) {
+            return CGAL::to_double(p.x()) == q.x() && CGAL::to_double(p.y()) == q.y() && CGAL::to_double(p.z()) == q.z();
+          };
+          if(!((same(a, points[e[0]]) && same(b, points[e[1]])) || (same(a, points[e[1]]) && same(b, points[e[0]]))))
+            continue;
+          const double d = std::abs(CGAL::to_double(domain.curve_length(std::get<0>(c))) - len);
+          if(d < best) {
+            best = d;
+            curve = static_cast<int>(std::get<0>(c));
+          }
+        }
+      }
+      if(curve < 0)
+        throw Meshing_failure("boundary front: a feature edge between two corners lies on no curve of the domain");
+      m.edges.push_back(e);
+      m.edge_refs.push_back(curve);
+    }
+  }
+
+  // 3. interior nodes, then the advancing front
+  int subdomain = 1;
+  for(std::size_t i = 0; i < nodes.size(); ++i)
+    if(nodes[i].dimension == 3) {
+      subdomain = static_cast<int>(domain.subdomain_index(nodes[i].index));
+      point_of_node[i] = static_cast<int>(points.size());
+      add_point(nodes[i].point, 3, subdomain);
+    }
+  t0 = std::chrono::steady_clock::now();
+  typedef Anisotropic_advancing_front_3<MetricField> Front;
+  typename Front::Parameters fp;
+  fp.allow_steiner_points = s.allow_steiner;
+  if(s.progress)
+    fp.progress = [&](std::size_t tets, std::size_t front) {
+      say("advancing front: " + std::to_string(tets) + " tets, front " + std::to_string(front) + " triangles");
+    };
+  Front front(field, fp);
+  const typename Front::Result r = front.run(points, m.triangles);
+  rep.front_seconds = seconds_since(t0);
+  const auto& fs = r.statistics;
+  rep.tets = r.tets.size();
+  rep.delaunay_tets = fs.delaunay_tets;
+  rep.best_quality_tets = fs.best_quality_tets;
+  rep.undo_rounds = fs.undo_rounds;
+  rep.undone_tets = fs.undone_tets;
+  rep.search_tets = fs.search_tets;
+  rep.cavities = fs.cavities;
+  rep.cavity_tets = fs.cavity_tets;
+  rep.steiner_points = fs.steiner_points;
+  rep.unused_nodes = fs.unused_nodes;
+  say("advancing front: " + std::to_string(r.tets.size()) + " tets, " + std::to_string(rep.front_seconds) + " s");
+  for(std::size_t i = points.size(); i < r.points.size(); ++i) {
+    const auto& p = r.points[i];
+    m.points.push_back({{p.x(), p.y(), p.z()}});
+    m.point_refs.push_back(subdomain);
+    out.locations.push_back(C3t3_vertex_location{3, subdomain});
+  }
+  m.tets = r.tets;
+  m.tet_refs.assign(m.tets.size(), subdomain);
+  if(fs.unused_nodes > 0) {
+    // nodes outside the boundary front (should not happen with the packer's nodes)
+    throw Meshing_failure("advancing front: " + std::to_string(fs.unused_nodes) +
+                          " packed nodes lie outside the boundary front");
+  }
+
+  // 4. validity: never hand out an invalid mesh
+  t0 = std::chrono::steady_clock::now();
+  Validity_options vo;
+  vo.require_outward_triangles = true;
+  const Validity_report vr = check_validity(m, vo);
+  rep.validity_seconds = seconds_since(t0);
+  if(!vr.is_valid()) {
+    std::string first = vr.problems.empty() ? std::string() : vr.problems.front();
+    throw Meshing_failure("the mesh failed the validity check (" + std::to_string(vr.number_of_problems) +
+                          " problems; first: " + first + ")");
+  }
+  rep.total_seconds = seconds_since(t_start);
+  return out;
+}
+
+} // namespace internal
+
+/// \ingroup PkgBubbleMesh3Functions
+/// The anisotropic mesh of `domain` as plain arrays (what MEDIT files hold):
+/// boundary triangles with their patch ids, feature edges with their curve
+/// ids, corners, tets with their subdomain id. Same parameters as
+/// `CGAL::make_anisotropic_mesh_3()`; no padding, no C3T3.
+template <typename MeshDomain, typename MetricField, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, const MetricField& field,
+                                                   const NamedParameters& np = CGAL::parameters::default_values())
+{
+  return internal::mesh_domain(domain, field, internal::resolve_settings(np)).mesh;
+}
+
+} // namespace Bubble_mesh_3
+
+/// \ingroup PkgBubbleMesh3Functions
+/// Generates an anisotropic tetrahedral mesh of `domain` whose edges have
+/// metric length about 1 in `field`: bubble packing (corners, curves,
+/// patches, interior), boundary front on the surface nodes, anisotropic
+/// advancing front. The complex holds the domain's cells (subdomain index),
+/// boundary facets (surface patch index), feature edges (curve index) and
+/// corners; the rest of the triangulation's convex hull is filled with cells
+/// of subdomain 0 (exterior padding, which needs TetGen unless the domain is
+/// convex... see the user manual).
+///
+/// \tparam C3T3 `Mesh_complex_3_in_triangulation_3<Tr, MeshDomain::Corner_index,
+///   MeshDomain::Curve_index>` with `Tr = Anisotropic_mesh_triangulation_3<MeshDomain>::type`
+/// \tparam MeshDomain `Polyhedral_mesh_domain_with_features_3` (after `detect_features()`)
+/// \tparam MetricField a model of `MetricField_3`
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{random_seed} \cgalParamType{unsigned int} \cgalParamDefault{0} \cgalParamNEnd
+///   \cgalParamNBegin{number_of_iterations} \cgalParamDescription{iteration cap of each packing stage}
+///     \cgalParamType{int} \cgalParamDefault{400} \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads} \cgalParamDescription{threads of the packing (0: all); the mesh does not
+///     depend on it} \cgalParamType{int} \cgalParamDefault{0} \cgalParamNEnd
+///   \cgalParamNBegin{maximum_number_of_bubbles} \cgalParamDescription{refuse larger node estimates}
+///     \cgalParamType{double} \cgalParamDefault{5e7} \cgalParamNEnd
+///   \cgalParamNBegin{allow_steiner_points} \cgalParamDescription{cavities the front cannot close may get points
+///     strictly inside} \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
+///   \cgalParamNBegin{callback} \cgalParamDescription{progress messages}
+///     \cgalParamType{std::function<void(const std::string&)>} \cgalParamDefault{none} \cgalParamNEnd
+///   \cgalParamNBegin{meshing_report} \cgalParamDescription{filled with counts and times}
+///     \cgalParamType{Bubble_mesh_3::Meshing_report*} \cgalParamDefault{nullptr} \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// Throws `Bubble_mesh_3::Invalid_input` (bad domain, metric or too many
+/// nodes) or `Bubble_mesh_3::Meshing_failure` (no valid mesh); never returns
+/// a partial mesh.
+template <typename C3T3, typename MeshDomain, typename MetricField,
+          typename NamedParameters = CGAL::parameters::Default_named_parameters>
+void make_anisotropic_mesh_3(C3T3& c3t3, const MeshDomain& domain, const MetricField& field,
+                             const NamedParameters& np = CGAL::parameters::default_values())
+{
+  namespace BM = Bubble_mesh_3;
+  const BM::internal::Meshing_settings s = BM::internal::resolve_settings(np);
+  BM::internal::Domain_mesh dm = BM::internal::mesh_domain(domain, field, s);
+  const auto t0 = std::chrono::steady_clock::now();
+  BM::internal::Padded_tet_mesh_3 padded = BM::internal::pad_to_box(dm.mesh);
+  std::vector<BM::internal::C3t3_vertex_location> locations = dm.locations;
+  locations.resize(padded.mesh.points.size(), BM::internal::C3t3_vertex_location{3, 0});
+  c3t3.clear();
+  BM::internal::tet_mesh_to_c3t3(padded.mesh, locations, domain, c3t3);
+  if(s.report) {
+    s.report->padding_tets = padded.mesh.tets.size() - dm.mesh.tets.size();
+    s.report->c3t3_seconds = BM::internal::seconds_since(t0);
+    s.report->total_seconds += s.report->c3t3_seconds;
+  }
+}
+
+/// \ingroup PkgBubbleMesh3Functions
+/// Same as above, returning the complex.
+template <typename C3T3, typename MeshDomain, typename MetricField,
+          typename NamedParameters = CGAL::parameters::Default_named_parameters>
+C3T3 make_anisotropic_mesh_3(const MeshDomain& domain, const MetricField& field,
+                             const NamedParameters& np = CGAL::parameters::default_values())
+{
+  C3T3 c3t3;
+  make_anisotropic_mesh_3(c3t3, domain, field, np);
+  return c3t3;
+}
+
+} // namespace CGAL
+
+#endif // CGAL_MAKE_ANISOTROPIC_MESH_3_H
