@@ -2,6 +2,7 @@
 //
 // Exit codes: 0 success, 2 invalid input or usage (one line on stderr),
 // 3 internal failure.
+#include <CGAL/Bubble_mesh_3/IO/cross_section_svg.h>
 #include <CGAL/Bubble_mesh_3/IO/medit.h>
 #include <CGAL/Bubble_mesh_3/IO/read_triangle_surface.h>
 #include <CGAL/Bubble_mesh_3/IO/sol.h>
@@ -12,7 +13,9 @@
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/metric_quality.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
+#include <CGAL/Bubble_mesh_3/analytic_metric_fields.h>
 #include <CGAL/Constant_metric_field_3.h>
+#include <CGAL/Function_metric_field_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interpolated_metric_field_3.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
@@ -27,6 +30,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -48,7 +52,7 @@ const char* const usage_text =
     "Usage:\n"
     "  bubble_mesh_3 SURFACE -o OUT.mesh [METRIC] [--vtu OUT.vtu] [--feature-angle DEG]\n"
     "                [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
-    "                [--max-nodes N] [--quiet]\n"
+    "                [--max-nodes N] [--section S.svg [--section-plane x|y|z=VALUE]] [--quiet]\n"
     "      Mesh the volume inside a closed triangle surface (OFF, OBJ, STL, PLY):\n"
     "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
     "      at more than DEG degrees from flat, default 60), surface patches and the\n"
@@ -57,7 +61,9 @@ const char* const usage_text =
     "      METRIC the size is 1/20 of the bounding box diagonal. The mesh (MEDIT,\n"
     "      with boundary patches, feature edges and corners) is written only when\n"
     "      it is complete and valid. --max-nodes refuses larger node estimates\n"
-    "      (default 5e7). Exit 3 when no valid mesh could be made.\n"
+    "      (default 5e7). --section draws the tets cut by a plane (default: y through\n"
+    "      the centre of the bounding box) coloured by metric quality.\n"
+    "      Exit 3 when no valid mesh could be made.\n"
     "  bubble_mesh_3 eval MESH.mesh [METRIC] [--report R.json] [--vtu OUT.vtu]\n"
     "                [--histogram H.svg] [--title TEXT] [--quiet] [--require-valid]\n"
     "      Quality report of any tetrahedral mesh in MEDIT format (also from TetGen\n"
@@ -79,6 +85,12 @@ const char* const usage_text =
     "                                      metric at the vertices of a background tet mesh\n"
     "                                      (SolAtVertices, type 3: m11 m21 m22 m31 m32 m33),\n"
     "                                      log-Euclidean interpolation, nearest value outside\n"
+    "  --metric-cylindrical PX,PY,PZ,DX,DY,DZ,H,RATIO,R\n"
+    "                                      size H along and across the axis through P along D,\n"
+    "                                      tangential size growing from H on the axis to\n"
+    "                                      RATIO*H at distance R (the paper's 1:1 to 1:3)\n"
+    "  --metric-boundary-layer HN,HT,T     (meshing only) tangential size HT, size HN normal\n"
+    "                                      to the input surface on it, growing to HT at depth T\n"
     "\n"
     "Quality is the minimum dihedral angle of each tet after mapping it by Q,\n"
     "M(centroid) = Q^T Q. Edge lengths are in the metric; the target is 1.\n"
@@ -151,14 +163,43 @@ std::string file_name(const std::string& path)
 // interface so that every subcommand evaluates the same way.
 class Command_line_metric {
 public:
-  static Command_line_metric from_options(const Options& o, double default_size = 0)
+  static std::vector<double> numbers(const Options& o, const std::string& name, std::size_t count,
+                                     const std::string& format)
+  {
+    std::vector<double> a;
+    std::stringstream ss(o.get(name));
+    for(std::string item; std::getline(ss, item, ',');)
+      a.push_back(parse_number(item, name));
+    if(a.size() != count)
+      throw Usage_error(name + " needs " + std::to_string(count) + " comma-separated numbers " + format + ", got " +
+                        std::to_string(a.size()));
+    return a;
+  }
+
+  static Command_line_metric from_options(const Options& o, double default_size = 0,
+                                          const CGAL::Surface_mesh<K::Point_3>* surface = nullptr)
   {
     Command_line_metric m;
     const int given = int(o.has("--size")) + int(o.has("--metric-const")) +
-                      int(o.has("--metric-mesh") || o.has("--metric-sol"));
+                      int(o.has("--metric-mesh") || o.has("--metric-sol")) + int(o.has("--metric-cylindrical")) +
+                      int(o.has("--metric-boundary-layer"));
     if(given > 1)
-      throw Usage_error("give at most one of --size, --metric-const, --metric-mesh/--metric-sol");
-    if(o.has("--size")) {
+      throw Usage_error("give at most one of --size, --metric-const, --metric-mesh/--metric-sol, "
+                        "--metric-cylindrical, --metric-boundary-layer");
+    if(o.has("--metric-cylindrical")) {
+      const std::vector<double> a = numbers(o, "--metric-cylindrical", 9, "PX,PY,PZ,DX,DY,DZ,H,RATIO,R");
+      const CGAL::Bubble_mesh_3::Cylindrical_metric c(Eigen::Vector3d(a[0], a[1], a[2]),
+                                                      Eigen::Vector3d(a[3], a[4], a[5]), a[6], a[7], a[8]);
+      m.function_.emplace(Function([c](const K::Point_3& p) { return c(p); }));
+      m.description_ = "cylindrical " + o.get("--metric-cylindrical");
+    } else if(o.has("--metric-boundary-layer")) {
+      const std::vector<double> a = numbers(o, "--metric-boundary-layer", 3, "HN,HT,T");
+      if(surface == nullptr)
+        throw Usage_error("--metric-boundary-layer needs the input surface (meshing only)");
+      const CGAL::Bubble_mesh_3::Boundary_layer_metric<K> b(*surface, a[0], a[1], a[2]);
+      m.function_.emplace(Function([b](const K::Point_3& p) { return b(p); }));
+      m.description_ = "boundary layer " + o.get("--metric-boundary-layer");
+    } else if(o.has("--size")) {
       const double h = parse_number(o.get("--size"), "--size");
       m.constant_ = CGAL::Constant_metric_field_3<K>(Metric_3::isotropic(h, "--size"));
       m.description_ = "isotropic size " + o.get("--size");
@@ -196,6 +237,8 @@ public:
   {
     if(interpolated_)
       return f(*interpolated_);
+    if(function_)
+      return f(*function_);
     return f(constant_);
   }
 
@@ -204,6 +247,8 @@ public:
 private:
   CGAL::Constant_metric_field_3<K> constant_;
   std::optional<CGAL::Interpolated_metric_field_3<K>> interpolated_;
+  typedef std::function<Metric_3(const K::Point_3&)> Function;
+  std::optional<CGAL::Function_metric_field_3<K, Function>> function_;
   std::string description_;
 };
 
@@ -215,8 +260,8 @@ bool ends_with(const std::string& s, const std::string& suffix)
 int run_eval(int argc, char** argv)
 {
   const Options o = parse_options(argc, argv, 2,
-                                  {"--size", "--metric-const", "--metric-mesh", "--metric-sol", "--report",
-                                   "--vtu", "--histogram", "--title"},
+                                  {"--size", "--metric-const", "--metric-mesh", "--metric-sol", "--metric-cylindrical",
+                                   "--report", "--vtu", "--histogram", "--title"},
                                   {"--quiet", "--require-valid"});
   if(o.positional.size() != 1)
     throw Usage_error("eval needs exactly one MESH.mesh argument (see bubble_mesh_3 --help)");
@@ -289,6 +334,7 @@ int run_mesh(int argc, char** argv)
   namespace BM = CGAL::Bubble_mesh_3;
   const Options o = parse_options(argc, argv, 1,
                                   {"-o", "--vtu", "--size", "--metric-const", "--metric-mesh", "--metric-sol",
+                                   "--metric-cylindrical", "--metric-boundary-layer", "--section", "--section-plane",
                                    "--feature-angle", "--report", "--histogram", "--seed", "--threads", "--max-nodes"},
                                   {"--quiet"});
   if(o.positional.size() != 1)
@@ -309,6 +355,17 @@ int run_mesh(int argc, char** argv)
   if(!(max_nodes > 0))
     throw Usage_error("--max-nodes must be positive");
   const bool quiet = o.has("--quiet");
+  if(o.has("--section") && !ends_with(o.get("--section"), ".svg"))
+    throw Usage_error("--section: '" + o.get("--section") + "' must end in .svg");
+  if(o.has("--section-plane") && !o.has("--section"))
+    throw Usage_error("--section-plane goes with --section");
+  std::optional<BIO::Section_plane> section_plane;
+  if(o.has("--section-plane")) {
+    const std::string t = o.get("--section-plane");
+    if(t.size() < 3 || (t[0] != 'x' && t[0] != 'y' && t[0] != 'z') || t[1] != '=')
+      throw Usage_error("--section-plane: '" + t + "' is not of the form x=VALUE, y=VALUE or z=VALUE");
+    section_plane = BIO::Section_plane{t[0] - 'x', parse_number(t.substr(2), "--section-plane")};
+  }
   const auto t0 = std::chrono::steady_clock::now();
   auto progress = [&](const std::string& message) {
     if(quiet)
@@ -330,7 +387,7 @@ int run_mesh(int argc, char** argv)
            std::to_string(surface.number_of_faces()) + " triangles");
   Domain domain(polyhedron);
   domain.detect_features(angle);
-  const Command_line_metric metric = Command_line_metric::from_options(o, diagonal / 20);
+  const Command_line_metric metric = Command_line_metric::from_options(o, diagonal / 20, &surface);
   progress("metric: " + metric.description());
 
   BM::Meshing_report meshing;
@@ -347,7 +404,7 @@ int run_mesh(int argc, char** argv)
               .meshing_report(&meshing)
               .callback(std::function<void(const std::string&)>(progress)));
       quality = BM::compute_quality_report(mesh, field);
-      if(o.has("--vtu"))
+      if(o.has("--vtu") || o.has("--section"))
         per_tet = BM::metric_minimum_dihedral_angles(mesh, field);
       return 0;
     });
@@ -361,6 +418,13 @@ int run_mesh(int argc, char** argv)
   if(o.has("--vtu")) {
     BIO::write_vtu(o.get("--vtu"), mesh, {{"min_dihedral", per_tet}});
     progress("wrote " + o.get("--vtu"));
+  }
+  if(o.has("--section")) {
+    const BIO::Section_plane plane =
+        section_plane ? *section_plane : BIO::Section_plane{1, 0.5 * (bb.ymin() + bb.ymax())};
+    BIO::write_cross_section_svg(o.get("--section"), mesh, plane, per_tet,
+                                 file_name(surface_path) + ", " + metric.description());
+    progress("wrote " + o.get("--section"));
   }
   if(o.has("--report")) {
     std::string json = BM::to_json(quality);

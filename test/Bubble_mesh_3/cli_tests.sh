@@ -124,5 +124,41 @@ expect roundtrip-eval 0 "" -- "$tool" eval "$work/c.mesh" --report "$work/c.json
 check "round-tripped mesh evaluates the same" [ "$(json_value "$work/c.json" worst)" = "$worst" ]
 expect convert-bad-ext 2 "must end in" -- "$tool" convert "$cube" "$work/c.txt"
 
+# Meshing a surface: the unit cube as 12 triangles.
+{
+  printf 'OFF\n8 12 0\n'
+  for k in 0 1 2 3 4 5 6 7; do printf '%d %d %d\n' $((k & 1)) $(((k >> 1) & 1)) $(((k >> 2) & 1)); done
+  printf '3 0 2 3\n3 0 3 1\n3 4 5 7\n3 4 7 6\n3 0 1 5\n3 0 5 4\n3 2 6 7\n3 2 7 3\n3 0 4 6\n3 0 6 2\n3 1 3 7\n3 1 7 5\n'
+} >"$work/cube.off"
+expect mesh-cube 0 "" -- "$tool" "$work/cube.off" -o "$work/m.mesh" --size 0.3 --vtu "$work/m.vtu" \
+  --report "$work/m.json" --histogram "$work/m.svg" --section "$work/m_section.svg" --section-plane z=0.5 --seed 2
+check "mesh written" [ -s "$work/m.mesh" ]
+check "progress on stderr" grep -q "advancing front" "$work/err.txt"
+check "summary on stdout" grep -q "min dihedral" "$work/out.txt"
+check "report has meshing counters" grep -q '"steiner_points"' "$work/m.json"
+check "section drawn" grep -q '<polygon' "$work/m_section.svg"
+check "vtu has quality" grep -q 'min_dihedral' "$work/m.vtu"
+expect meshed-cube-is-valid 0 "" -- "$tool" eval "$work/m.mesh" --size 0.3 --require-valid --report "$work/mv.json" --quiet
+mvol="$(json_value "$work/mv.json" volume)"
+check "meshed cube volume = 1 ($mvol)" awk -v v="$mvol" 'BEGIN { exit !(v > 0.999999999 && v < 1.000000001) }'
+expect mesh-same-seed-same-mesh 0 "" -- "$tool" "$work/cube.off" -o "$work/m2.mesh" --size 0.3 --seed 2 --threads 1 --quiet
+check "same seed, 1 thread: identical file" cmp -s "$work/m.mesh" "$work/m2.mesh"
+expect mesh-cylindrical 0 "" -- "$tool" "$work/cube.off" -o "$work/mc.mesh" --metric-cylindrical 0.5,0.5,0,0,0,1,0.25,3,0.5 --quiet
+expect mesh-boundary-layer 0 "" -- "$tool" "$work/cube.off" -o "$work/mb.mesh" --metric-boundary-layer 0.1,0.3,0.2 --quiet
+# bad meshing input: exit 2, one line, no output file
+head -n 12 "$work/cube.off" | sed 's/^OFF$/OFF/' | awk 'NR==2{print "8 11 0"; next} {print}' >"$work/open.off"
+expect mesh-open-surface 2 "open.off" -- "$tool" "$work/open.off" -o "$work/open.mesh" --quiet
+check "no output for an open surface" [ ! -e "$work/open.mesh" ]
+expect mesh-missing-o 2 "missing -o" -- "$tool" "$work/cube.off" --size 0.3
+expect mesh-bad-o 2 "must end in .mesh" -- "$tool" "$work/cube.off" -o "$work/m.txt"
+expect mesh-too-many 2 "exceeds" -- "$tool" "$work/cube.off" -o "$work/big.mesh" --size 0.3 --max-nodes 10 --quiet
+check "no output when refused" [ ! -e "$work/big.mesh" ]
+expect mesh-bad-metric 2 "not positive definite" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-const 1,2,0,1,0,1 --quiet
+expect mesh-bad-cylindrical 2 "cylindrical" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-cylindrical 0,0,0,0,0,0,0.2,3,1 --quiet
+expect mesh-bad-plane 2 "section-plane" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --section "$work/s.svg" --section-plane w=3 --quiet
+expect mesh-bad-angle 2 "feature-angle" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --feature-angle 200 --quiet
+expect mesh-bad-threads 2 "threads" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --threads -2 --quiet
+check "no output after refusals" [ ! -e "$work/x.mesh" ]
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -24,7 +24,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <array>
 #include <set>
+#include <utility>
+#include <vector>
 #include <sstream>
 #include <string>
 
@@ -81,6 +84,97 @@ std::string l_shape_off()
   return o.str();
 }
 
+// a closed surface of revolution about z of the profile (r, z), from the
+// bottom pole (r = 0) to the top pole, `n` segments around
+std::string revolution_off(const std::vector<std::pair<double, double>>& profile, int n)
+{
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::vector<int>> rings;
+  for(const auto& rz : profile) {
+    std::vector<int> ring;
+    if(rz.first == 0) {
+      ring.push_back(int(v.size()));
+      v.push_back({{0, 0, rz.second}});
+    } else
+      for(int j = 0; j < n; ++j) {
+        ring.push_back(int(v.size()));
+        const double a = 2 * std::acos(-1.0) * j / n;
+        v.push_back({{rz.first * std::cos(a), rz.first * std::sin(a), rz.second}});
+      }
+    rings.push_back(ring);
+  }
+  std::vector<std::array<int, 3>> f;
+  for(std::size_t k = 0; k + 1 < rings.size(); ++k) {
+    const auto& a = rings[k];
+    const auto& b = rings[k + 1];
+    for(int j = 0; j < n; ++j) {
+      const int j1 = (j + 1) % n;
+      if(a.size() == 1)
+        f.push_back({{a[0], b[j1], b[j]}});
+      else if(b.size() == 1)
+        f.push_back({{a[j], a[j1], b[0]}});
+      else {
+        f.push_back({{a[j], a[j1], b[j1]}});
+        f.push_back({{a[j], b[j1], b[j]}});
+      }
+    }
+  }
+  std::ostringstream o;
+  o.precision(17);
+  o << "OFF\n" << v.size() << ' ' << f.size() << " 0\n";
+  for(const auto& p : v)
+    o << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  for(const auto& t : f) // the profile runs outward at the bottom: reverse to face out
+    o << "3 " << t[0] << ' ' << t[2] << ' ' << t[1] << '\n';
+  return o.str();
+}
+
+// cylinder of radius 1 and height 3 (profile subdivided every 0.25)
+std::string cylinder_off()
+{
+  std::vector<std::pair<double, double>> p{{0, 0}, {0.25, 0}, {0.5, 0}, {0.75, 0}};
+  for(int k = 0; k <= 12; ++k)
+    p.emplace_back(1.0, 0.25 * k);
+  p.insert(p.end(), {{0.75, 3}, {0.5, 3}, {0.25, 3}, {0, 3}});
+  return revolution_off(p, 64);
+}
+
+// torus: tube radius 0.4 around a circle of radius 1 in the xy plane
+std::string torus_off(int n = 48, int m = 24)
+{
+  std::ostringstream o;
+  o.precision(17);
+  o << "OFF\n" << n * m << ' ' << 2 * n * m << " 0\n";
+  const double pi = std::acos(-1.0);
+  for(int i = 0; i < n; ++i)
+    for(int j = 0; j < m; ++j) {
+      const double u = 2 * pi * i / n, w = 2 * pi * j / m;
+      o << (1 + 0.4 * std::cos(w)) * std::cos(u) << ' ' << (1 + 0.4 * std::cos(w)) * std::sin(u) << ' '
+        << 0.4 * std::sin(w) << '\n';
+    }
+  auto id = [&](int i, int j) { return ((i + n) % n) * m + (j + m) % m; };
+  for(int i = 0; i < n; ++i)
+    for(int j = 0; j < m; ++j)
+      o << "3 " << id(i, j) << ' ' << id(i + 1, j) << ' ' << id(i + 1, j + 1) << "\n3 " << id(i, j) << ' '
+        << id(i + 1, j + 1) << ' ' << id(i, j + 1) << '\n';
+  return o.str();
+}
+
+// volume enclosed by an OFF surface (divergence theorem)
+double enclosed_volume(const std::string& off)
+{
+  Polyhedron p = from_off(off);
+  double v = 0;
+  for(auto f = p.facets_begin(); f != p.facets_end(); ++f) {
+    auto h = f->halfedge();
+    const K::Point_3& a = h->vertex()->point();
+    const K::Point_3& b = h->next()->vertex()->point();
+    const K::Point_3& c = h->next()->next()->vertex()->point();
+    v += CGAL::to_double(CGAL::volume(K::Point_3(0, 0, 0), a, b, c));
+  }
+  return std::abs(v); // the domain orients the surface itself
+}
+
 struct Outcome {
   BM::Indexed_tet_mesh_3 mesh;
   BM::Meshing_report report;
@@ -98,11 +192,16 @@ Outcome mesh_indexed(const std::string& off, const Field& field, double volume, 
       domain, field, BM::parameters::number_of_threads(threads).meshing_report(&o.report).random_seed(3u));
   BM::Validity_options opt;
   opt.require_outward_triangles = true;
-  opt.expected_volume = volume;
+  if(volume > 0) // flat-faced domains: the input's volume; curved ones: the checker's own identity with the front
+    opt.expected_volume = volume;
   opt.expected_volume_relative_tolerance = 1e-9;
   o.validity = BM::check_validity(o.mesh, opt);
   if(!o.validity.is_valid())
     BM::print_validity_summary(std::cerr, o.validity);
+  // exactly the packed nodes plus the reported Steiner points, all used
+  const auto& r = o.report;
+  EXPECT_EQ(o.mesh.points.size(), r.nodes[0] + r.nodes[1] + r.nodes[2] + r.nodes[3] + r.steiner_points);
+  EXPECT_EQ(o.validity.unused_vertices, 0u);
   return o;
 }
 
@@ -155,6 +254,36 @@ TEST(MakeMesh, LShapeNonConvexGraded)
   EXPECT_TRUE(o.validity.is_valid());
   const auto q = BM::compute_quality_report(o.mesh, field);
   print("L graded", o, q);
+}
+
+TEST(MakeMesh, CylinderCurvedWithLoopFeatures)
+{
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.25));
+  const std::string off = cylinder_off();
+  const Outcome o = mesh_indexed(off, field, -1);
+  EXPECT_TRUE(o.validity.is_valid());
+  // the front's chords cut the curved wall a little
+  EXPECT_NEAR(o.validity.tet_volume / enclosed_volume(off), 1.0, 0.03);
+  std::set<int> patches(o.mesh.triangle_refs.begin(), o.mesh.triangle_refs.end());
+  EXPECT_EQ(patches.size(), 3u);
+  const auto q = BM::compute_quality_report(o.mesh, field);
+  print("cylinder", o, q);
+  EXPECT_GT(q.edge_length.in_range_fraction, 0.9);
+}
+
+TEST(MakeMesh, TorusStretched1to5)
+{
+  // genus 1, smooth (no feature), a constant metric 5 times longer along z
+  CGAL::Constant_metric_field_3<K> field(
+      Metric::from_directions_and_sizes(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.15, 0.15, 0.75)));
+  const std::string off = torus_off();
+  const Outcome o = mesh_indexed(off, field, -1);
+  EXPECT_TRUE(o.validity.is_valid());
+  EXPECT_NEAR(o.validity.tet_volume / enclosed_volume(off), 1.0, 0.1); // about one element across the tube in z
+  EXPECT_TRUE(o.mesh.edges.empty());
+  const auto q = BM::compute_quality_report(o.mesh, field);
+  print("torus 1:5", o, q);
+  EXPECT_GT(q.edge_length.in_range_fraction, 0.8);
 }
 
 TEST(MakeMesh, C3t3ForCgalTools)

@@ -24,7 +24,10 @@
 //     nodes of one input edge sorted along it); a patch node is located (AABB
 //     tree over its own patch) in an input face and inserted in the current
 //     sub-triangulation of that face (face split, or edge split when it lies
-//     on an edge), always at its exact position;
+//     on an edge), always at its exact position; the nodes of one input face
+//     are inserted in Morton order, located by a walk (linear scan as the
+//     fallback) and followed by Lawson metric Delaunay flips that stay inside
+//     that input face (so each input face stays tiled by its own triangles);
 //  3. metric Delaunay flips (below) clean the thin triangles of step 2;
 //  4. every input vertex that is not a node is removed: by the edge collapse
 //     into a neighbour that gives the best new triangles, subject to the link
