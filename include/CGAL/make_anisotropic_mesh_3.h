@@ -376,8 +376,9 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 /// advancing front. The complex holds the domain's cells (subdomain index),
 /// boundary facets (surface patch index), feature edges (curve index) and
 /// corners; the rest of the triangulation's convex hull is filled with cells
-/// of subdomain 0 (exterior padding, which needs TetGen unless the domain is
-/// convex... see the user manual).
+/// of subdomain 0 (exterior padding by TetGen's constrained tetrahedralization
+/// of the box minus the domain; a build without TetGen handles convex domains
+/// only and throws `Bubble_mesh_3::Meshing_failure` otherwise).
 ///
 /// \tparam C3T3 `Mesh_complex_3_in_triangulation_3<Tr, MeshDomain::Corner_index,
 ///   MeshDomain::Curve_index>` with `Tr = Anisotropic_mesh_triangulation_3<MeshDomain>::type`
@@ -412,13 +413,27 @@ void make_anisotropic_mesh_3(C3T3& c3t3, const MeshDomain& domain, const MetricF
   const BM::internal::Meshing_settings s = BM::internal::resolve_settings(np);
   BM::internal::Domain_mesh dm = BM::internal::mesh_domain(domain, field, s);
   const auto t0 = std::chrono::steady_clock::now();
-  BM::internal::Padded_tet_mesh_3 padded = BM::internal::pad_to_box(dm.mesh);
-  std::vector<BM::internal::C3t3_vertex_location> locations = dm.locations;
-  locations.resize(padded.mesh.points.size(), BM::internal::C3t3_vertex_location{3, 0});
   c3t3.clear();
-  BM::internal::tet_mesh_to_c3t3(padded.mesh, locations, domain, c3t3);
+  std::size_t padding_tets = 0;
+  if(BM::internal::has_exterior_padding) {
+    BM::internal::Padded_tet_mesh_3 padded = BM::internal::pad_to_box(dm.mesh);
+    std::vector<BM::internal::C3t3_vertex_location> locations = dm.locations;
+    locations.resize(padded.mesh.points.size(), BM::internal::C3t3_vertex_location{3, 0});
+    BM::internal::tet_mesh_to_c3t3(padded.mesh, locations, domain, c3t3);
+    padding_tets = padded.mesh.tets.size() - dm.mesh.tets.size();
+  } else {
+    // without TetGen only a mesh of a convex domain fills its triangulation
+    try {
+      BM::internal::tet_mesh_to_c3t3(dm.mesh, dm.locations, domain, c3t3);
+    } catch(const BM::Invalid_input& e) {
+      c3t3.clear();
+      throw BM::Meshing_failure(std::string("the domain is not convex (or has several components), and this build "
+                                            "has no TetGen to pad it out to a box for the C3T3 (") +
+                                e.what() + "); use make_indexed_anisotropic_mesh_3 or build with TetGen");
+    }
+  }
   if(s.report) {
-    s.report->padding_tets = padded.mesh.tets.size() - dm.mesh.tets.size();
+    s.report->padding_tets = padding_tets;
     s.report->c3t3_seconds = BM::internal::seconds_since(t0);
     s.report->total_seconds += s.report->c3t3_seconds;
   }

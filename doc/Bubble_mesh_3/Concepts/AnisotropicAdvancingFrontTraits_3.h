@@ -68,6 +68,21 @@ typedef unspecified_type Side_of_oriented_metric_sphere_3;
 /// \pre The five ids are distinct, and a point always carries the same id.
 typedef unspecified_type Side_of_oriented_metric_sphere_SOS_3;
 
+/// segment and triangle types (`Segment_3(p, q)`, `Triangle_3(p, q, r)`)
+typedef unspecified_type Segment_3;
+typedef unspecified_type Triangle_3;
+
+/// exact intersection tests `bool operator()(Triangle_3, Triangle_3)` and
+/// `bool operator()(Segment_3, Triangle_3)` (closed sets: touching counts),
+/// as `Kernel::Do_intersect_3`; the front refuses a tet whose new faces meet
+/// the front anywhere but in shared vertices and edges
+typedef unspecified_type Do_intersect_3;
+
+/// `CGAL::Orientation operator()(p, q, r, s)` for coplanar points: `POSITIVE`
+/// when `r` and `s` lie on the same side of the line `pq`, as
+/// `Kernel::Coplanar_orientation_3`
+typedef unspecified_type Coplanar_orientation_3;
+
 /// @}
 
 /// \name Operations
@@ -81,6 +96,12 @@ Side_of_oriented_metric_sphere_3 side_of_oriented_metric_sphere_3_object() const
 
 /// returns a `Side_of_oriented_metric_sphere_SOS_3` object
 Side_of_oriented_metric_sphere_SOS_3 side_of_oriented_metric_sphere_SOS_3_object() const;
+
+/// returns a `Do_intersect_3` object
+Do_intersect_3 do_intersect_3_object() const;
+
+/// returns a `Coplanar_orientation_3` object
+Coplanar_orientation_3 coplanar_orientation_3_object() const;
 
 /// @}
 
