@@ -16,7 +16,12 @@
 #include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Bubble_packer_3.h>
 
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
 #include <CGAL/Triangulation_3.h>
 
 #include <array>
@@ -62,6 +67,9 @@ struct Meshing_report {
   std::size_t tets = 0;
   std::size_t delaunay_tets = 0, best_quality_tets = 0, undo_rounds = 0, undone_tets = 0, search_tets = 0;
   std::size_t cavities = 0, cavity_tets = 0, steiner_points = 0, unused_nodes = 0;
+  /// interior nodes not used: outside the boundary front (between a chord
+  /// and a curved wall), or within metric distance 0.25 of it
+  std::size_t dropped_outside = 0, dropped_near_boundary = 0;
   double front_seconds = 0;
   double validity_seconds = 0;
   double c3t3_seconds = 0; ///< padding and conversion (make_anisotropic_mesh_3 only)
@@ -94,7 +102,8 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"best_quality_tets\": " << r.best_quality_tets << ",\n    \"undo_rounds\": " << r.undo_rounds
     << ",\n    \"undone_tets\": " << r.undone_tets << ",\n    \"search_tets\": " << r.search_tets
     << ",\n    \"cavities\": " << r.cavities << ",\n    \"cavity_tets\": " << r.cavity_tets
-    << ",\n    \"steiner_points\": " << r.steiner_points << ",\n    \"front_seconds\": " << num(r.front_seconds)
+    << ",\n    \"steiner_points\": " << r.steiner_points << ",\n    \"dropped_interior_nodes_outside\": "
+    << r.dropped_outside << ",\n    \"dropped_interior_nodes_near_boundary\": " << r.dropped_near_boundary << ",\n    \"front_seconds\": " << num(r.front_seconds)
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"total_seconds\": "
     << num(r.total_seconds) << "\n  }";
   return o.str();
@@ -120,6 +129,9 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
   o << "front:    " << r.tets << " tets, " << r.front_seconds << " s (modified Delaunay " << r.delaunay_tets
     << ", best quality " << r.best_quality_tets << ", undo rounds " << r.undo_rounds << ", cavities " << r.cavities
     << ", Steiner points " << r.steiner_points << ")\n";
+  if(r.dropped_outside + r.dropped_near_boundary > 0)
+    o << "dropped:  " << r.dropped_outside << " interior nodes outside the boundary front, "
+      << r.dropped_near_boundary << " too close to it\n";
   o << "total:    " << r.total_seconds << " s\n";
   out << o.str();
 }
@@ -293,14 +305,48 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
     }
   }
 
-  // 3. interior nodes, then the advancing front
+  // 3. interior nodes, then the advancing front. The front's chords cut
+  //    curved walls: an interior node packed between a chord and the true
+  //    surface lies outside the front, and one very close to a front triangle
+  //    would only make a flat tet; both are dropped (counted).
   int subdomain = 1;
-  for(std::size_t i = 0; i < nodes.size(); ++i)
-    if(nodes[i].dimension == 3) {
+  {
+    typedef typename K::Point_3 P;
+    typedef CGAL::Surface_mesh<P> Front_mesh;
+    Front_mesh fm;
+    std::vector<typename Front_mesh::Vertex_index> vi;
+    for(const auto& p : points)
+      vi.push_back(fm.add_vertex(P(p.x(), p.y(), p.z())));
+    for(const auto& t : m.triangles)
+      fm.add_face(vi[t[0]], vi[t[1]], vi[t[2]]);
+    const CGAL::Side_of_triangle_mesh<Front_mesh, K> side(fm);
+    typedef CGAL::AABB_face_graph_triangle_primitive<Front_mesh> Primitive;
+    CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>> tree(faces(fm).first, faces(fm).second, fm);
+    tree.accelerate_distance_queries();
+    for(std::size_t i = 0; i < nodes.size(); ++i) {
+      if(nodes[i].dimension != 3)
+        continue;
+      const P q(CGAL::to_double(nodes[i].point.x()), CGAL::to_double(nodes[i].point.y()),
+                CGAL::to_double(nodes[i].point.z()));
+      if(side(q) != CGAL::ON_BOUNDED_SIDE) {
+        ++rep.dropped_outside;
+        continue;
+      }
+      const P c = tree.closest_point(q);
+      const Metric_3 mq = Metric_3(field(q));
+      if(mq.length(Eigen::Vector3d(CGAL::to_double(c.x() - q.x()), CGAL::to_double(c.y() - q.y()),
+                                   CGAL::to_double(c.z() - q.z()))) < 0.25) {
+        ++rep.dropped_near_boundary;
+        continue;
+      }
       subdomain = static_cast<int>(domain.subdomain_index(nodes[i].index));
       point_of_node[i] = static_cast<int>(points.size());
       add_point(nodes[i].point, 3, subdomain);
     }
+  }
+  if(rep.dropped_outside + rep.dropped_near_boundary > 0)
+    say("dropped interior nodes: " + std::to_string(rep.dropped_outside) + " outside the boundary front, " +
+        std::to_string(rep.dropped_near_boundary) + " within 0.25 of it");
   t0 = std::chrono::steady_clock::now();
   typedef Anisotropic_advancing_front_3<MetricField> Front;
   typename Front::Parameters fp;

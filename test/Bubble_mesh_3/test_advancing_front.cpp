@@ -260,6 +260,38 @@ TEST(AdvancingFront, StretchedMetricAlignsTets)
   EXPECT_GT(qa.min_dihedral.worst, qi.min_dihedral.worst);
 }
 
+TEST(AdvancingFront, CavityFillersAloneGiveValidMeshes)
+{
+  // no undo/search rounds: every stuck cavity of these lattices (cyclic
+  // prisms at the corners) goes to the fillers (fans, Steiner fans, TetGen)
+  std::size_t cavities = 0, tetgen = 0;
+  for(int trial = 0; trial < 16; ++trial) {
+    const int stretched = trial % 2;
+    Domain d = box(1, 1, 1, 0.25, 3 + trial, 0.3);
+    if(stretched) {
+      for(Point& p : d.points)
+        p = Point(4 * p.x(), p.y(), p.z());
+      d.volume = 4;
+    }
+    Field field(trial % 4 == 3 ? Metric::from_entries(1.0, 0, 0, 16.0, 0, 16.0) : Metric::isotropic(0.25));
+    Front::Parameters prm;
+    prm.maximum_undo_rounds = 0;
+    Front front(field, prm);
+    const Front::Result r = front.run(d.points, d.boundary);
+    EXPECT_TRUE(check(r, d).is_valid());
+    const auto& s = r.statistics;
+    cavities += s.cavities;
+    tetgen += s.tetgen_fills;
+    EXPECT_EQ(r.points.size(), d.points.size() + s.steiner_points);
+    std::cout << "fillers only: cavities " << s.cavities << ", vertex fans " << s.vertex_star_fills
+              << ", Steiner fans " << s.steiner_star_fills << ", TetGen " << s.tetgen_fills << ", Steiner points "
+              << s.steiner_points << "\n";
+  }
+  EXPECT_GT(cavities, 8u);
+  if(BM::internal::front::cavity_filling_has_tetgen)
+    EXPECT_GT(tetgen, 0u);
+}
+
 TEST(AdvancingFront, LShapeNonConvex)
 {
   // an L-shaped prism: the unit square [0,2]x[0,2] minus [1,2]x[1,2], height 1,
