@@ -52,11 +52,13 @@ const char* const usage_text =
     "Usage:\n"
     "  bubble_mesh_3 SURFACE -o OUT.mesh [METRIC] [--vtu OUT.vtu] [--feature-angle DEG]\n"
     "                [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
-    "                [--max-nodes N] [--section S.svg [--section-plane x|y|z=VALUE]] [--quiet]\n"
+    "                [--max-nodes N] [--section S.svg [--section-plane x|y|z=VALUE]]\n"
+    "                [--no-improve] [--quiet]\n"
     "      Mesh the volume inside a closed triangle surface (OFF, OBJ, STL, PLY):\n"
     "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
     "      at more than DEG degrees from flat, default 60), surface patches and the\n"
-    "      interior, then an anisotropic advancing front. Progress goes to stderr,\n"
+    "      interior, then an anisotropic advancing front, then metric flips and\n"
+    "      smoothing of the worst tets (--no-improve: skip). Progress goes to stderr,\n"
     "      a summary (nodes, tets, times, metric quality) to stdout. Without a\n"
     "      METRIC the size is 1/20 of the bounding box diagonal. The mesh (MEDIT,\n"
     "      with boundary patches, feature edges and corners) is written only when\n"
@@ -336,7 +338,7 @@ int run_mesh(int argc, char** argv)
                                   {"-o", "--vtu", "--size", "--metric-const", "--metric-mesh", "--metric-sol",
                                    "--metric-cylindrical", "--metric-boundary-layer", "--section", "--section-plane",
                                    "--feature-angle", "--report", "--histogram", "--seed", "--threads", "--max-nodes"},
-                                  {"--quiet"});
+                                  {"--quiet", "--no-improve"});
   if(o.positional.size() != 1)
     throw Usage_error("give exactly one SURFACE file (see bubble_mesh_3 --help)");
   if(!o.has("-o"))
@@ -402,6 +404,7 @@ int run_mesh(int argc, char** argv)
               .number_of_threads(threads)
               .maximum_number_of_bubbles(max_nodes)
               .meshing_report(&meshing)
+              .mesh_improvement(!o.has("--no-improve"))
               .callback(std::function<void(const std::string&)>(progress)));
       quality = BM::compute_quality_report(mesh, field);
       if(o.has("--vtu") || o.has("--section"))

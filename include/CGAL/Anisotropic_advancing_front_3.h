@@ -203,12 +203,22 @@ private:
     if(!(cell_ > 0))
       throw Bubble_mesh_3::Invalid_input("advancing front: degenerate boundary");
     nodes_.build(xyz_, cell_);
-    faces_grid_.reset(xyz_.front(), cell_);
+    {
+      P3 lo = xyz_.front(), hi = xyz_.front();
+      for(const P3& p : xyz_)
+        for(int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], p[k]);
+          hi[k] = std::max(hi[k], p[k]);
+        }
+      faces_grid_.reset(lo, hi, cell_, 2 * xyz_.size() + 8);
+    }
     faces_.clear();
     face_of_.clear();
     tets_.clear();
     tet_alive_.clear();
     tets_of_face_.clear();
+    tets_of_face_built_ = false;
+    waiting_count_ = 0;
     front_count_.assign(n, 0);
     tet_count_.assign(n, 0);
     queue_.clear();
@@ -253,6 +263,10 @@ private:
       Face& g = faces_[it->second];
       CGAL_assertion(!F::same_orientation(g.v, t));
       g.alive = false;
+      if(g.waiting) {
+        g.waiting = false;
+        --waiting_count_;
+      }
       --alive_faces_;
       for(int v : g.v)
         --front_count_[v];
@@ -281,7 +295,8 @@ private:
     for(int v : t)
       ++tet_count_[v];
     for(const Triangle& o : F::outward_faces(t)) {
-      tets_of_face_[F::sorted(o)].push_back(id);
+      if(tets_of_face_built_)
+        tets_of_face_[F::sorted(o)].push_back(id);
       // the outward face's reverse is the front face it consumes, or a new front face
       toggle_face(o);
     }
@@ -309,6 +324,8 @@ private:
   /// waiting triangles near a change get another chance
   void wake_neighbours(const Tetrahedron& t)
   {
+    if(waiting_count_ == 0)
+      return;
     Box b = box_of({t[0], t[1], t[2], t[3]});
     double r = 0;
     for(int k = 0; k < 3; ++k)
@@ -321,6 +338,7 @@ private:
       f.fallback_dirty = true;
       if(f.waiting) {
         f.waiting = false;
+        --waiting_count_;
         queue_.push_back(id);
       }
     });
@@ -404,7 +422,6 @@ private:
       if(orientation(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[q]) == CGAL::POSITIVE)
         out.push_back(q);
     });
-    std::sort(out.begin(), out.end()); // deterministic order whatever the hash layout
   }
 
   Box search_box(const Triangle& f, const Metric& m, double factor) const
@@ -466,17 +483,24 @@ private:
     const Tetrahedron tet{{f[0], f[1], f[2], p}};
     const Box b = box_of({f[0], f[1], f[2], p});
     bool ok = true;
+    std::array<Box, 3> nb;
+    for(int i = 0; i < 3; ++i)
+      nb[i] = box_of({nf[i][0], nf[i][1], nf[i][2]});
     faces_grid_.query(b, [&](int gid) {
       if(!ok || gid == fid || !faces_[gid].alive)
         return;
+      const Triangle& g = faces_[gid].v;
+      const Box gb = box_of({g[0], g[1], g[2]});
       for(int i = 0; i < 3 && ok; ++i)
-        if(gid != partner[i] && F::triangles_meet_beyond_shared(nf[i], faces_[gid].v, pts_, traits_))
+        if(gid != partner[i] && nb[i].meets(gb) && F::triangles_meet_beyond_shared(nf[i], g, pts_, traits_))
           ok = false;
     });
     if(!ok)
       return false;
+    // dead nodes (inside the meshed volume) cannot be in T: the front would
+    // have to cross T's faces or have a vertex in T, both excluded
     nodes_.query(b, [&](int q) {
-      if(!ok || q == f[0] || q == f[1] || q == f[2] || q == p)
+      if(!ok || q == f[0] || q == f[1] || q == f[2] || q == p || !is_alive_node(q))
         return;
       if(F::in_closed_tet(pts_[q], tet, pts_, traits_))
         ok = false;
@@ -502,6 +526,7 @@ private:
         progress = true;
       } else {
         faces_[fid].waiting = true;
+        ++waiting_count_;
         waiting_.push_back(fid);
       }
     }
@@ -567,6 +592,13 @@ private:
   /// undoes `layers` layers of tets next to the front
   void undo_layers(int layers)
   {
+    if(!tets_of_face_built_) { // only recoveries need it: built on the first one
+      for(std::size_t t = 0; t < tets_.size(); ++t)
+        if(tet_alive_[t])
+          for(const Triangle& o : Bubble_mesh_3::internal::front::outward_faces(tets_[t]))
+            tets_of_face_[Bubble_mesh_3::internal::front::sorted(o)].push_back(static_cast<int>(t));
+      tets_of_face_built_ = true;
+    }
     for(int layer = 0; layer < layers; ++layer) {
       std::vector<int> next;
       for(const auto& kv : face_of_) {
@@ -686,6 +718,7 @@ private:
         f.fallback_dirty = true;
         f.waiting = false;
       }
+    waiting_count_ = 0;
     queue_.clear();
     for(const auto& kv : face_of_)
       queue_.push_back(kv.second);
@@ -774,6 +807,8 @@ private:
   std::vector<Tetrahedron> tets_;
   std::vector<char> tet_alive_;
   std::unordered_map<Triangle, std::vector<int>, Key_hash> tets_of_face_;
+  bool tets_of_face_built_ = false;
+  long waiting_count_ = 0; // alive faces waiting: nothing to wake while 0
   std::vector<int> front_count_, tet_count_;
   std::deque<int> queue_;
   std::vector<int> waiting_;

@@ -8,6 +8,7 @@
 #include <CGAL/Anisotropic_advancing_front_3.h>
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/improve_mesh.h>
 #include <CGAL/Bubble_mesh_3/internal/c3t3/exterior_padding.h>
 #include <CGAL/Bubble_mesh_3/internal/c3t3/tet_soup_to_c3t3.h>
 #include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
@@ -64,13 +65,16 @@ struct Meshing_report {
   double estimated_nodes = 0;
   std::size_t boundary_triangles = 0;
   double boundary_seconds = 0;
-  std::size_t tets = 0;
+  std::size_t tets = 0; ///< made by the front (the final count: `final_tets`)
+  std::size_t final_tets = 0;
   std::size_t delaunay_tets = 0, best_quality_tets = 0, undo_rounds = 0, undone_tets = 0, search_tets = 0;
   std::size_t cavities = 0, cavity_tets = 0, steiner_points = 0, unused_nodes = 0;
   /// interior nodes not used: outside the boundary front (between a chord
   /// and a curved wall), or within metric distance 0.25 of it
   std::size_t dropped_outside = 0, dropped_near_boundary = 0;
   double front_seconds = 0;
+  bool improved = false;           ///< whether `improve_mesh()` ran
+  Improvement_report improvement;  ///< its report (quality before and after, flips, moves)
   double validity_seconds = 0;
   double c3t3_seconds = 0; ///< padding and conversion (make_anisotropic_mesh_3 only)
   std::size_t padding_tets = 0;
@@ -104,6 +108,13 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"cavities\": " << r.cavities << ",\n    \"cavity_tets\": " << r.cavity_tets
     << ",\n    \"steiner_points\": " << r.steiner_points << ",\n    \"dropped_interior_nodes_outside\": "
     << r.dropped_outside << ",\n    \"dropped_interior_nodes_near_boundary\": " << r.dropped_near_boundary << ",\n    \"front_seconds\": " << num(r.front_seconds)
+    << ",\n    \"final_tets\": " << r.final_tets << ",\n    \"improved\": " << (r.improved ? "true" : "false") << ",\n    \"improvement\": {\"worst_before\": "
+    << num(r.improvement.worst_before) << ", \"worst_after\": " << num(r.improvement.worst_after)
+    << ", \"p01_before\": " << num(r.improvement.p01_before) << ", \"p01_after\": " << num(r.improvement.p01_after)
+    << ", \"flips_2_3\": " << r.improvement.flips_2_3 << ", \"flips_3_2\": " << r.improvement.flips_3_2
+    << ", \"flips_4_4\": " << r.improvement.flips_4_4 << ", \"edge_removals\": " << r.improvement.edge_removals
+    << ", \"smoothing_moves\": " << r.improvement.smoothing_moves << ", \"seconds\": " << num(r.improvement.seconds)
+    << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"total_seconds\": "
     << num(r.total_seconds) << "\n  }";
   return o.str();
@@ -132,6 +143,13 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
   if(r.dropped_outside + r.dropped_near_boundary > 0)
     o << "dropped:  " << r.dropped_outside << " interior nodes outside the boundary front, "
       << r.dropped_near_boundary << " too close to it\n";
+  if(r.improved) {
+    const Improvement_report& i = r.improvement;
+    o << "improve:  worst " << i.worst_before << " -> " << i.worst_after << " deg, p01 " << i.p01_before << " -> "
+      << i.p01_after << " deg, " << i.tets_after << " tets, " << i.seconds << " s (2-3 " << i.flips_2_3 << ", 3-2 "
+      << i.flips_3_2 << ", 4-4 " << i.flips_4_4 << ", edge removals " << i.edge_removals << ", moves "
+      << i.smoothing_moves << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
+  }
   o << "total:    " << r.total_seconds << " s\n";
   out << o.str();
 }
@@ -151,6 +169,8 @@ struct Meshing_settings {
   double maximum_bubbles = 5e7;
   bool allow_steiner = true;
   bool verbose = false;
+  bool improve = true;
+  double improve_time_limit = -1;
   std::function<void(const std::string&)> progress;
   Meshing_report* report = nullptr;
 };
@@ -167,6 +187,9 @@ Meshing_settings resolve_settings(const NP& np)
   s.maximum_bubbles = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::maximum_number_of_bubbles), 5e7);
   s.allow_steiner = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::allow_steiner_points), true);
   s.verbose = choose_parameter(get_parameter(np, CGAL::internal_np::verbose), false);
+  s.improve = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::mesh_improvement), true);
+  s.improve_time_limit =
+      choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::improvement_time_limit), -1.0);
   s.progress = choose_parameter(get_parameter(np, CGAL::internal_np::callback),
                                 std::function<void(const std::string&)>());
   s.report = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::meshing_report),
@@ -384,7 +407,19 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
                           " packed nodes lie outside the boundary front");
   }
 
-  // 4. validity: never hand out an invalid mesh
+  // 4. quality: metric flips and smoothing (boundary and features unchanged)
+  if(s.improve) {
+    Improvement_options io;
+    io.time_limit_seconds = s.improve_time_limit;
+    rep.improvement = improve_mesh(m, field, io);
+    rep.improved = true;
+    say("improvement: worst metric min dihedral " + std::to_string(rep.improvement.worst_before) + " -> " +
+        std::to_string(rep.improvement.worst_after) + " deg, " + std::to_string(rep.improvement.seconds) + " s");
+  }
+
+  rep.final_tets = m.tets.size();
+
+  // 5. validity: never hand out an invalid mesh
   t0 = std::chrono::steady_clock::now();
   Validity_options vo;
   vo.require_outward_triangles = true;
@@ -441,6 +476,10 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///     \cgalParamType{double} \cgalParamDefault{5e7} \cgalParamNEnd
 ///   \cgalParamNBegin{allow_steiner_points} \cgalParamDescription{cavities the front cannot close may get points
 ///     strictly inside} \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
+///   \cgalParamNBegin{mesh_improvement} \cgalParamDescription{metric flips and smoothing after the front
+///     (`Bubble_mesh_3::improve_mesh()`)} \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
+///   \cgalParamNBegin{improvement_time_limit} \cgalParamDescription{seconds for it; negative: 2 s + 10 s per 100k
+///     tets (a run cut by the limit is not reproducible)} \cgalParamType{double} \cgalParamDefault{-1} \cgalParamNEnd
 ///   \cgalParamNBegin{callback} \cgalParamDescription{progress messages}
 ///     \cgalParamType{std::function<void(const std::string&)>} \cgalParamDefault{none} \cgalParamNEnd
 ///   \cgalParamNBegin{meshing_report} \cgalParamDescription{filled with counts and times}

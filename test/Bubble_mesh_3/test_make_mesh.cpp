@@ -210,7 +210,7 @@ void print(const char* name, const Outcome& o, const BM::Quality_report& q)
 {
   const auto& r = o.report;
   std::cout << name << ": nodes " << r.nodes[0] << "/" << r.nodes[1] << "/" << r.nodes[2] << "/" << r.nodes[3]
-            << ", tets " << r.tets << " (delaunay " << r.delaunay_tets << ", best quality " << r.best_quality_tets
+            << ", tets " << r.final_tets << " (front " << r.tets << ", delaunay " << r.delaunay_tets << ", best quality " << r.best_quality_tets
             << ", undo rounds " << r.undo_rounds << ", cavities " << r.cavities << ", steiner " << r.steiner_points
             << ", dropped " << r.dropped_outside << "+" << r.dropped_near_boundary << "), metric min dihedral worst " << q.min_dihedral.worst << " p01 " << q.min_dihedral.p01 << " mean "
             << q.min_dihedral.mean << ", edges in range " << q.edge_length.in_range_fraction << ", times pack "
@@ -231,7 +231,10 @@ TEST(MakeMesh, CubeIdentity)
   EXPECT_EQ(curves.size(), 12u);
   const auto q = BM::compute_quality_report(o.mesh, field);
   print("cube identity", o, q);
-  EXPECT_GT(q.min_dihedral.worst, 0.0);
+  EXPECT_TRUE(o.report.improved);
+  EXPECT_DOUBLE_EQ(q.min_dihedral.worst, o.report.improvement.worst_after);
+  EXPECT_GE(o.report.improvement.worst_after, o.report.improvement.worst_before);
+  EXPECT_GT(q.min_dihedral.worst, 15.0);
   EXPECT_GT(q.edge_length.in_range_fraction, 0.8);
 }
 
@@ -269,6 +272,7 @@ TEST(MakeMesh, CylinderCurvedWithLoopFeatures)
   EXPECT_EQ(patches.size(), 3u);
   const auto q = BM::compute_quality_report(o.mesh, field);
   print("cylinder", o, q);
+  EXPECT_GT(q.min_dihedral.worst, 15.0);
   EXPECT_GT(q.edge_length.in_range_fraction, 0.9);
 }
 
@@ -297,7 +301,7 @@ TEST(MakeMesh, C3t3ForCgalTools)
   BM::Meshing_report rep;
   C3t3 c3t3 = CGAL::make_anisotropic_mesh_3<C3t3>(domain, field, BM::parameters::meshing_report(&rep));
   EXPECT_TRUE(c3t3.triangulation().is_valid());
-  EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.tets);
+  EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.final_tets);
   EXPECT_EQ(c3t3.number_of_facets_in_complex(), rep.boundary_triangles);
   EXPECT_GT(c3t3.number_of_edges_in_complex(), 0u);
   EXPECT_EQ(c3t3.number_of_vertices_in_complex(), rep.nodes[0]);
@@ -309,6 +313,21 @@ TEST(MakeMesh, C3t3ForCgalTools)
   std::ostringstream medit;
   CGAL::IO::output_to_medit(medit, c3t3);
   EXPECT_GT(medit.str().size(), 1000u);
+}
+
+TEST(MakeMesh, WithoutImprovementTheFrontsMeshIsReturned)
+{
+  Polyhedron p = from_off(box_off(1, 1, 1));
+  Domain domain(p);
+  domain.detect_features(60);
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.3));
+  BM::Meshing_report rep;
+  const BM::Indexed_tet_mesh_3 m = BM::make_indexed_anisotropic_mesh_3(
+      domain, field, BM::parameters::mesh_improvement(false).meshing_report(&rep));
+  EXPECT_FALSE(rep.improved);
+  EXPECT_EQ(m.tets.size(), rep.tets);
+  EXPECT_EQ(rep.final_tets, rep.tets);
+  EXPECT_EQ(rep.tets, rep.delaunay_tets + rep.best_quality_tets + rep.search_tets + rep.cavity_tets);
 }
 
 TEST(MakeMesh, SameMeshWithOneAndTwoThreads)

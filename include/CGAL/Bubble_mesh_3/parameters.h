@@ -21,6 +21,8 @@ enum number_of_threads_t { number_of_threads };
 enum maximum_number_of_bubbles_t { maximum_number_of_bubbles };
 enum allow_steiner_points_t { allow_steiner_points };
 enum meshing_report_t { meshing_report };
+enum mesh_improvement_t { mesh_improvement };
+enum improvement_time_limit_t { improvement_time_limit };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -42,6 +44,8 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, maximum_number_of_bubbles)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, allow_steiner_points)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, meshing_report)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, mesh_improvement)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, improvement_time_limit)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -64,6 +68,10 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, maximum_number_of_bubbles)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, allow_steiner_points)
 /// a `Bubble_mesh_3::Meshing_report*` filled with counts and times of every stage
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, meshing_report)
+/// improve the front's mesh by metric flips and smoothing (`improve_mesh()`; default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, mesh_improvement)
+/// seconds for the improvement (negative: automatic, see `Improvement_options`)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, improvement_time_limit)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, callback)

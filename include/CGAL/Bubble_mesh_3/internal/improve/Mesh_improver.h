@@ -1,0 +1,697 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#ifndef CGAL_BUBBLE_MESH_3_INTERNAL_IMPROVE_MESH_IMPROVER_H
+#define CGAL_BUBBLE_MESH_3_INTERNAL_IMPROVE_MESH_IMPROVER_H
+
+#include <CGAL/Bubble_mesh_3/Metric_3.h>
+#include <CGAL/Bubble_mesh_3/Quality_report.h>
+#include <CGAL/Bubble_mesh_3/internal/improve/Mutable_tet_mesh.h>
+#include <CGAL/Bubble_mesh_3/metric_quality.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <queue>
+#include <utility>
+#include <vector>
+
+// The driver of improve_mesh(): passes of (1) a flip phase, a worklist of
+// the tets below the target angle, worst first, each removed by the best
+// strictly improving flip among the removals of its six edges (3-2, 4-4,
+// n-to-(2n-4)) and the 2-3 flips of its four faces; (2) a smoothing sweep
+// over the free vertices of the remaining bad tets. The flip phase ends:
+// every flip raises the sorted vector of all qualities lexicographically
+// (it removes a tet of quality m and adds only tets above m), so no
+// configuration repeats. See improve_mesh.h for the documentation.
+
+namespace CGAL {
+namespace Bubble_mesh_3 {
+namespace internal {
+namespace improve {
+
+/// Counters and options shared with the public header (copied there).
+struct Improver_settings {
+  int maximum_passes;
+  double time_limit_seconds;
+  bool flips;
+  bool smoothing;
+  double target_angle;
+  std::size_t maximum_ring_size;
+  int smoothing_iterations;
+};
+
+struct Improver_counters {
+  std::size_t flips_2_3 = 0;
+  std::size_t flips_3_2 = 0;
+  std::size_t flips_4_4 = 0;
+  std::size_t edge_removals = 0;
+  std::size_t smoothing_moves = 0;
+  int passes = 0;
+  bool time_limit_reached = false;
+};
+
+/// The smallest dihedral angle (degrees) of the tet spanned by the edge
+/// vectors a, b, c: the same value as
+/// `minimum_dihedral_angle_of_edge_vectors()` (the same `atan2` of the same
+/// normals), with one `atan2` instead of six: the smallest angle is the one
+/// of largest cosine.
+inline double fast_minimum_dihedral_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c)
+{
+  Eigen::Vector3d n[4];
+  face_normals(a, b, c, n);
+  double inverse_length[4];
+  for(int k = 0; k < 4; ++k) {
+    const double l = n[k].norm();
+    if(!(l > 0))
+      return minimum_dihedral_angle_of_edge_vectors(a, b, c); // degenerate face
+    inverse_length[k] = 1 / l;
+  }
+  int best = 0;
+  double best_cosine = -std::numeric_limits<double>::infinity();
+  for(int e = 0; e < 6; ++e) {
+    const int k = edge_opposite_faces[e][0], l = edge_opposite_faces[e][1];
+    const double cosine = -n[k].dot(n[l]) * inverse_length[k] * inverse_length[l];
+    if(cosine > best_cosine) {
+      best_cosine = cosine;
+      best = e;
+    }
+  }
+  return radians_to_degrees() *
+         dihedral_angle_from_normals(n[edge_opposite_faces[best][0]], n[edge_opposite_faces[best][1]]);
+}
+
+/// The quality of a tet: its minimum dihedral angle (degrees) after mapping
+/// by `Q` of the metric at its centroid (`M = Q^T Q`), as in
+/// `compute_quality_report()`; -1 for a tet that is not positively oriented
+/// (exact test), so that it loses against every valid configuration.
+template <typename MetricField_3>
+class Tet_quality {
+public:
+  typedef typename MetricField_3::Point_3 Field_point;
+
+  explicit Tet_quality(const MetricField_3& field) : field_(field) {}
+
+  double operator()(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                    const Eigen::Vector3d& p3) const
+  {
+    if(exact_orientation(p0, p1, p2, p3) != CGAL::POSITIVE)
+      return -1;
+    return unchecked(p0, p1, p2, p3);
+  }
+
+  /// the quality of a tet known to be positively oriented
+  double unchecked(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                   const Eigen::Vector3d& p3) const
+  {
+    const Eigen::Vector3d c = 0.25 * (p0 + p1 + p2 + p3);
+    const auto& m = field_(Field_point(c[0], c[1], c[2]));
+    const Metric_3& metric = m;
+    const Eigen::Matrix3d& q = metric.Q();
+    return fast_minimum_dihedral_angle(map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0),
+                                       map_by_upper(q, p3 - p0));
+  }
+
+  /// the value `compute_quality_report()` gives: 0 for a flat tet, the
+  /// six-`atan2` minimum otherwise (whatever the orientation)
+  double reference(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                   const Eigen::Vector3d& p3) const
+  {
+    if(exact_orientation(p0, p1, p2, p3) == CGAL::COPLANAR)
+      return 0;
+    const Eigen::Vector3d c = 0.25 * (p0 + p1 + p2 + p3);
+    const auto& m = field_(Field_point(c[0], c[1], c[2]));
+    const Metric_3& metric = m;
+    const Eigen::Matrix3d& q = metric.Q();
+    return minimum_dihedral_angle_of_edge_vectors(map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0),
+                                                  map_by_upper(q, p3 - p0));
+  }
+
+  Metric_3 metric_at(const Eigen::Vector3d& p) const
+  {
+    const auto& m = field_(Field_point(p[0], p[1], p[2]));
+    const Metric_3& metric = m;
+    return metric;
+  }
+
+private:
+  const MetricField_3& field_;
+};
+
+template <typename MetricField_3>
+class Mesh_improver {
+public:
+  typedef Mutable_tet_mesh::Tet Tet;
+
+  Mesh_improver(Mutable_tet_mesh& mesh, const MetricField_3& field, const Improver_settings& settings)
+    : m_(mesh), quality_(field), s_(settings), start_(std::chrono::steady_clock::now())
+  {
+    q_.resize(m_.tets.size());
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      q_[t] = tet_quality(int(t));
+    tet_tried_.assign(m_.tets.size(), -1);
+    vertex_tried_.assign(m_.points.size(), -1);
+    vertex_changed_.assign(m_.points.size(), 0);
+  }
+
+  /// the qualities of the current tets (slot order), computed exactly as
+  /// `compute_quality_report()` does (same bits, also for a flat tet)
+  std::vector<double> qualities() const
+  {
+    std::vector<double> values;
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t]) {
+        const Tet& T = m_.tets[t];
+        values.push_back(quality_.reference(P(T[0]), P(T[1]), P(T[2]), P(T[3])));
+      }
+    return values;
+  }
+
+  double elapsed_seconds() const
+  {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+  const Improver_counters& counters() const { return c_; }
+
+  /// Passes of (1) flips driven by a worklist of the bad tets, worst
+  /// first, until no flip improves, then (2) one smoothing sweep over the
+  /// free vertices of the bad tets, worst ball first. Stops when a pass
+  /// changes nothing, after `maximum_passes`, or at the time limit.
+  void run()
+  {
+    for(int pass = 0; pass < s_.maximum_passes; ++pass) {
+      if(!has_bad_tet())
+        break;
+      ++c_.passes;
+      std::size_t changes = 0;
+      if(s_.flips)
+        changes += flip_phase();
+      if(s_.smoothing && !c_.time_limit_reached)
+        changes += smoothing_phase();
+      if(c_.time_limit_reached || changes == 0)
+        break;
+    }
+  }
+
+private:
+  struct Entry {
+    double quality;
+    int tet;
+    unsigned stamp;
+    // std::priority_queue pops the largest: make the worst tet the largest
+    bool operator<(const Entry& o) const
+    {
+      if(quality != o.quality)
+        return quality > o.quality;
+      if(tet != o.tet)
+        return tet > o.tet;
+      return stamp > o.stamp;
+    }
+  };
+  typedef std::priority_queue<Entry> Queue;
+
+  /// a proposed flip: remove `old_tets`, insert `new_tets`
+  struct Flip {
+    double new_worst = -std::numeric_limits<double>::infinity();
+    double old_worst = 0;
+    bool is_edge_removal = false;
+    std::size_t ring_size = 0;
+    std::vector<int> old_tets;
+    std::vector<Tet> new_tets;
+    int ref = 0;
+  };
+
+  const Eigen::Vector3d& P(int v) const { return m_.points[std::size_t(v)]; }
+
+  double tet_quality(int t) const
+  {
+    const Tet& T = m_.tets[std::size_t(t)];
+    return quality_(P(T[0]), P(T[1]), P(T[2]), P(T[3]));
+  }
+
+  double quality_of(const Tet& T) const { return quality_(P(T[0]), P(T[1]), P(T[2]), P(T[3])); }
+
+  void push_if_bad(int t)
+  {
+    if(q_[std::size_t(t)] < s_.target_angle)
+      queue_.push({q_[std::size_t(t)], t, m_.stamp[std::size_t(t)]});
+  }
+
+  // ---- flips --------------------------------------------------------------
+
+  /// The 2-3 flip of the face of `t` opposite its vertex `T[f]`: the tets
+  /// (a,b,c,d) and (a,b,c,e) become (a,b,e,d), (b,c,e,d), (c,a,e,d).
+  void consider_face_flip(int t, int f, Flip& best) const
+  {
+    const Tet& T = m_.tets[std::size_t(t)];
+    const int d = T[std::size_t(f)];
+    int a = T[std::size_t((f + 1) % 4)], b = T[std::size_t((f + 2) % 4)], c = T[std::size_t((f + 3) % 4)];
+    if(permutation_parity(T, a, b, c, d) != 0)
+      std::swap(a, b); // now orientation(a, b, c, d) > 0
+    if(m_.is_protected_face(a, b, c))
+      return;
+    const int s = m_.opposite_tet(t, a, b, c);
+    if(s < 0 || m_.refs[std::size_t(s)] != m_.refs[std::size_t(t)])
+      return;
+    const int e = m_.fourth_vertex(s, a, b, c);
+    const double old_worst = std::min(q_[std::size_t(t)], q_[std::size_t(s)]);
+    const double bar = std::max(old_worst, best.new_worst);
+    const Tet n0{{a, b, e, d}}, n1{{b, c, e, d}}, n2{{c, a, e, d}};
+    double w = quality_of(n0);
+    if(w <= bar)
+      return;
+    w = std::min(w, quality_of(n1));
+    if(w <= bar)
+      return;
+    w = std::min(w, quality_of(n2));
+    if(w <= bar)
+      return;
+    // In a valid mesh d and e cannot already be joined (the segment de
+    // crosses the face abc); checked anyway, it is cheap.
+    if(m_.are_connected(d, e))
+      return;
+    best.new_worst = w;
+    best.old_worst = old_worst;
+    best.is_edge_removal = false;
+    best.ring_size = 0;
+    best.old_tets = {t, s};
+    best.new_tets = {n0, n1, n2};
+    best.ref = m_.refs[std::size_t(t)];
+  }
+
+  /// Edge removal: the n tets around the interior edge (a, b) are replaced
+  /// by the 2n-4 tets joining a and b to the triangles of the best
+  /// triangulation of the ring polygon p_0 .. p_{n-1}, found by the classic
+  /// O(n^3) dynamic programme over its sub-polygons p_i .. p_j, maximising
+  /// the smallest quality. The triangle (p_i, p_k, p_j), i < k < j, gives
+  /// the tets (a, p_i, p_k, p_j) and (b, p_i, p_j, p_k).
+  void consider_edge_removal(int t, int a, int b, Flip& best)
+  {
+    if(m_.is_protected_edge(a, b))
+      return;
+    if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring_, ring_tets_))
+      return;
+    const int ref = m_.refs[std::size_t(t)];
+    double old_worst = std::numeric_limits<double>::infinity();
+    for(int s : ring_tets_) {
+      if(m_.refs[std::size_t(s)] != ref)
+        return;
+      old_worst = std::min(old_worst, q_[std::size_t(s)]);
+    }
+    const int n = int(ring_.size());
+    const double bar = std::max(old_worst, best.new_worst);
+    const double unknown = std::numeric_limits<double>::quiet_NaN();
+    // triangle qualities, computed on demand; -1: invalid or not above `bar`
+    triangle_.assign(std::size_t(n * n * n), unknown);
+    auto triangle = [&](int i, int k, int j) {
+      double& value = triangle_[std::size_t((i * n + k) * n + j)];
+      if(value == value)
+        return value;
+      const int pi = ring_[std::size_t(i)], pk = ring_[std::size_t(k)], pj = ring_[std::size_t(j)];
+      double w = quality_of(Tet{{a, pi, pk, pj}});
+      if(w > bar)
+        w = std::min(w, quality_of(Tet{{b, pi, pj, pk}}));
+      value = w > bar ? w : -1.0;
+      return value;
+    };
+    const double infinity = std::numeric_limits<double>::infinity();
+    table_.assign(std::size_t(n * n), -1.0);
+    choice_.assign(std::size_t(n * n), -1);
+    for(int i = 0; i + 1 < n; ++i)
+      table_[std::size_t(i * n + i + 1)] = infinity;
+    for(int length = 2; length < n; ++length)
+      for(int i = 0; i + length < n; ++i) {
+        const int j = i + length;
+        double best_value = -1;
+        int best_k = -1;
+        for(int k = i + 1; k < j; ++k) {
+          const double left = table_[std::size_t(i * n + k)];
+          const double right = table_[std::size_t(k * n + j)];
+          if(std::min(left, right) <= std::max(best_value, bar))
+            continue;
+          const double w = std::min(std::min(left, right), triangle(i, k, j));
+          if(w > best_value) {
+            best_value = w;
+            best_k = k;
+          }
+        }
+        table_[std::size_t(i * n + j)] = best_value;
+        choice_[std::size_t(i * n + j)] = best_k;
+      }
+    const double result = table_[std::size_t(n - 1)];
+    if(!(result > bar))
+      return;
+    best.new_worst = result;
+    best.old_worst = old_worst;
+    best.is_edge_removal = true;
+    best.ring_size = std::size_t(n);
+    best.old_tets = ring_tets_;
+    best.new_tets.clear();
+    best.ref = ref;
+    // reconstruct the triangulation
+    std::vector<std::pair<int, int>> stack{{0, n - 1}};
+    while(!stack.empty()) {
+      const auto [i, j] = stack.back();
+      stack.pop_back();
+      if(j - i < 2)
+        continue;
+      const int k = choice_[std::size_t(i * n + j)];
+      const int pi = ring_[std::size_t(i)], pk = ring_[std::size_t(k)], pj = ring_[std::size_t(j)];
+      best.new_tets.push_back(Tet{{a, pi, pk, pj}});
+      best.new_tets.push_back(Tet{{b, pi, pj, pk}});
+      stack.push_back({i, k});
+      stack.push_back({k, j});
+    }
+  }
+
+  void apply(const Flip& flip)
+  {
+    ++clock_;
+    for(int s : flip.old_tets)
+      for(int v : m_.tets[std::size_t(s)])
+        vertex_changed_[std::size_t(v)] = clock_;
+    const std::vector<int> created = m_.replace(flip.old_tets, flip.new_tets, flip.ref);
+    q_.resize(m_.tets.size());
+    tet_tried_.resize(m_.tets.size(), -1);
+    for(int s : created)
+      tet_tried_[std::size_t(s)] = -1;
+    for(int s : created)
+      q_[std::size_t(s)] = quality_of(m_.tets[std::size_t(s)]);
+    for(int s : created)
+      push_if_bad(s);
+    if(!flip.is_edge_removal)
+      ++c_.flips_2_3;
+    else if(flip.ring_size == 3)
+      ++c_.flips_3_2;
+    else if(flip.ring_size == 4)
+      ++c_.flips_4_4;
+    else
+      ++c_.edge_removals;
+  }
+
+  // ---- smoothing ------------------------------------------------------------
+
+  /// Moves the free vertex `v` to raise the smallest quality of its ball:
+  /// candidates are the (relaxed) mean of the ideal positions over the
+  /// ball's opposite faces, then steepest-ascent steps of the max-min
+  /// problem (direction: the smallest vector of the convex hull of the
+  /// gradients of the nearly worst tets), in the coordinates `y = Q x` of the
+  /// metric at `v`, with a halving line search. A move is accepted only if
+  /// every ball tet stays positively oriented (exact) and the smallest
+  /// quality of the ball increases.
+  bool smooth_vertex(int v)
+  {
+    const std::vector<int> ball = m_.vertex_tets[std::size_t(v)];
+    const std::size_t nb = ball.size();
+    if(nb == 0)
+      return false;
+    // opposite faces with (v, f0, f1, f2) positively oriented, worst first
+    std::vector<std::pair<double, std::array<int, 3>>> faces;
+    faces.reserve(nb);
+    for(int s : ball) {
+      const Tet& T = m_.tets[std::size_t(s)];
+      std::array<int, 3> f;
+      int k = 0;
+      for(int u : T)
+        if(u != v)
+          f[std::size_t(k++)] = u;
+      if(permutation_parity(T, v, f[0], f[1], f[2]) != 0)
+        std::swap(f[1], f[2]);
+      faces.push_back({q_[std::size_t(s)], f});
+    }
+    std::stable_sort(faces.begin(), faces.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    const double start = faces.front().first;
+
+    // smallest quality of the ball with v at x; stops early at <= threshold
+    auto evaluate = [&](const Eigen::Vector3d& x, double threshold) {
+      double w = std::numeric_limits<double>::infinity();
+      for(const auto& f : faces) {
+        const double q = quality_(x, P(f.second[0]), P(f.second[1]), P(f.second[2]));
+        w = std::min(w, q);
+        if(w <= threshold)
+          return w;
+      }
+      return w;
+    };
+
+    const Eigen::Vector3d x_start = P(v);
+    const Metric_3 metric = quality_.metric_at(x_start);
+    const Eigen::Matrix3d& Q = metric.Q();
+    const Eigen::Matrix3d Q_inverse = metric.Q_inverse();
+    double scale = std::numeric_limits<double>::infinity(); // shortest metric edge at v
+    for(const auto& f : faces)
+      for(int u : f.second)
+        scale = std::min(scale, metric.length(P(u) - x_start));
+    if(!(scale > 0 && std::isfinite(scale)))
+      return false;
+    const double minimum_gain = 1e-3; // degrees: no churn of negligible moves
+
+    Eigen::Vector3d x = x_start;
+    double current = start;
+
+    // 1. the mean of the ideal apex positions (regular tet on each face)
+    {
+      const Eigen::Vector3d y_v = Q * x_start;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for(const auto& f : faces) {
+        const Eigen::Vector3d y0 = Q * P(f.second[0]), y1 = Q * P(f.second[1]), y2 = Q * P(f.second[2]);
+        const Eigen::Vector3d c = (y0 + y1 + y2) / 3;
+        Eigen::Vector3d normal = (y1 - y0).cross(y2 - y0);
+        const double norm = normal.norm();
+        if(!(norm > 0))
+          return false;
+        normal /= norm;
+        if(normal.dot(y_v - c) < 0)
+          normal = -normal;
+        const double side = ((y1 - y0).norm() + (y2 - y1).norm() + (y0 - y2).norm()) / 3;
+        sum += c + std::sqrt(2.0 / 3.0) * side * normal;
+      }
+      const Eigen::Vector3d ideal = Q_inverse * (sum / double(nb));
+      for(double omega : {1.0, 0.5, 0.25}) {
+        const Eigen::Vector3d candidate = x_start + omega * (ideal - x_start);
+        const double w = evaluate(candidate, current + minimum_gain);
+        if(w > current + minimum_gain) {
+          current = w;
+          x = candidate;
+        }
+      }
+    }
+
+    // 2. steepest ascent of the smallest quality
+    std::vector<Eigen::Vector3d> gradients;
+    for(int iteration = 0; iteration < s_.smoothing_iterations; ++iteration) {
+      // qualities at x, and the nearly active tets
+      std::vector<std::pair<double, std::size_t>> values;
+      for(std::size_t i = 0; i < faces.size(); ++i) {
+        const auto& f = faces[i].second;
+        values.push_back({quality_(x, P(f[0]), P(f[1]), P(f[2])), i});
+      }
+      std::sort(values.begin(), values.end());
+      gradients.clear();
+      const double h = 1e-5 * scale;
+      for(const auto& value : values) {
+        if(value.first > values.front().first + 1.0 || gradients.size() >= 8)
+          break;
+        const auto& f = faces[value.second].second;
+        Eigen::Vector3d g;
+        for(int axis = 0; axis < 3; ++axis) {
+          const Eigen::Vector3d step = Q_inverse.col(axis) * h;
+          const double plus = quality_.unchecked(x + step, P(f[0]), P(f[1]), P(f[2]));
+          const double minus = quality_.unchecked(x - step, P(f[0]), P(f[1]), P(f[2]));
+          g[axis] = (plus - minus) / (2 * h);
+        }
+        gradients.push_back(g);
+      }
+      if(gradients.empty())
+        break;
+      const Eigen::Vector3d d = minimum_norm_point(gradients);
+      const double d_norm = d.norm();
+      if(!(d_norm > 1e-12) || !std::isfinite(d_norm))
+        break;
+      const Eigen::Vector3d direction = Q_inverse * (d / d_norm);
+      bool moved = false;
+      for(double step = 0.25 * scale; step > 1e-4 * scale; step *= 0.5) {
+        const Eigen::Vector3d candidate = x + step * direction;
+        const double w = evaluate(candidate, current + minimum_gain);
+        if(w > current + minimum_gain) {
+          current = w;
+          x = candidate;
+          moved = true;
+          break;
+        }
+      }
+      if(!moved)
+        break;
+    }
+
+    if(!(current > start + minimum_gain) || x == x_start)
+      return false;
+    m_.points[std::size_t(v)] = x;
+    ++clock_;
+    for(int s : ball)
+      for(int u : m_.tets[std::size_t(s)])
+        vertex_changed_[std::size_t(u)] = clock_;
+    for(int s : ball) {
+      q_[std::size_t(s)] = tet_quality(s);
+      ++m_.stamp[std::size_t(s)];
+    }
+    ++c_.smoothing_moves;
+    return true;
+  }
+
+  /// the point of smallest norm in the convex hull of `points` (Gilbert's
+  /// algorithm; a few dozen iterations suffice in 3D)
+  static Eigen::Vector3d minimum_norm_point(const std::vector<Eigen::Vector3d>& points)
+  {
+    Eigen::Vector3d d = points.front();
+    for(int iteration = 0; iteration < 64; ++iteration) {
+      std::size_t best = 0;
+      double best_dot = points[0].dot(d);
+      for(std::size_t i = 1; i < points.size(); ++i) {
+        const double dot = points[i].dot(d);
+        if(dot < best_dot) {
+          best_dot = dot;
+          best = i;
+        }
+      }
+      const double dd = d.squaredNorm();
+      if(dd - best_dot <= 1e-12 * dd)
+        break;
+      const Eigen::Vector3d e = d - points[best];
+      const double lambda = std::min(1.0, std::max(0.0, d.dot(e) / e.squaredNorm()));
+      d -= lambda * e;
+    }
+    return d;
+  }
+
+  // ---- phases ----------------------------------------------------------------
+
+  /// false if `t` was tried and nothing around it changed since
+  bool needs_try(std::size_t t) const
+  {
+    if(tet_tried_[t] < 0)
+      return true;
+    for(int v : m_.tets[t])
+      if(vertex_changed_[std::size_t(v)] > tet_tried_[t])
+        return true;
+    return false;
+  }
+
+  bool has_bad_tet() const
+  {
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && q_[t] < s_.target_angle)
+        return true;
+    return false;
+  }
+
+  bool out_of_time()
+  {
+    if(!c_.time_limit_reached && elapsed_seconds() > s_.time_limit_seconds)
+      c_.time_limit_reached = true;
+    return c_.time_limit_reached;
+  }
+
+  /// flips until none improves; returns the number of flips
+  std::size_t flip_phase()
+  {
+    queue_ = Queue();
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && needs_try(t))
+        push_if_bad(int(t));
+    std::size_t flips = 0;
+    while(!queue_.empty()) {
+      const Entry e = queue_.top();
+      queue_.pop();
+      const std::size_t t = std::size_t(e.tet);
+      if(!m_.alive[t] || m_.stamp[t] != e.stamp)
+        continue;
+      if(flip_tet(e.tet))
+        ++flips;
+      else
+        tet_tried_[t] = clock_;
+      if((flips & 63) == 0 && out_of_time())
+        break;
+    }
+    queue_ = Queue();
+    return flips;
+  }
+
+  /// one smoothing sweep; returns the number of moves
+  std::size_t smoothing_phase()
+  {
+    // free vertices of bad tets, ordered by the worst tet they are in
+    std::vector<std::pair<double, int>> order;
+    std::vector<char> seen(m_.points.size(), 0);
+    std::vector<std::pair<double, int>> bad;
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && q_[t] < s_.target_angle)
+        bad.push_back({q_[t], int(t)});
+    std::sort(bad.begin(), bad.end());
+    for(const auto& b : bad)
+      for(int v : m_.tets[std::size_t(b.second)])
+        if(!m_.fixed[std::size_t(v)] && !seen[std::size_t(v)] &&
+           vertex_tried_[std::size_t(v)] < vertex_changed_[std::size_t(v)]) {
+          seen[std::size_t(v)] = 1;
+          order.push_back(b);
+          order.back().second = v;
+        }
+    std::size_t moves = 0;
+    for(std::size_t i = 0; i < order.size(); ++i) {
+      if(smooth_vertex(order[i].second))
+        ++moves;
+      else
+        vertex_tried_[std::size_t(order[i].second)] = clock_;
+      if((i & 15) == 0 && out_of_time())
+        break;
+    }
+    return moves;
+  }
+
+  /// the best strictly improving flip that removes `t`, applied
+  bool flip_tet(int t)
+  {
+    Flip best;
+    const Tet T = m_.tets[std::size_t(t)];
+    static constexpr int edges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+    for(const auto& e : edges)
+      consider_edge_removal(t, T[std::size_t(e[0])], T[std::size_t(e[1])], best);
+    for(int f = 0; f < 4; ++f)
+      consider_face_flip(t, f, best);
+    if(best.new_tets.empty())
+      return false;
+    apply(best);
+    return true;
+  }
+
+  Mutable_tet_mesh& m_;
+  Tet_quality<MetricField_3> quality_;
+  Improver_settings s_;
+  std::chrono::steady_clock::time_point start_;
+  std::vector<double> q_;
+  Queue queue_;
+  Improver_counters c_;
+  // change tracking: an operation that failed is retried only after a
+  // change nearby (vertex_changed_ of one of its vertices is later)
+  long clock_ = 1;
+  std::vector<long> tet_tried_, vertex_tried_, vertex_changed_;
+  // scratch of the edge removal
+  std::vector<int> ring_, ring_tets_, choice_;
+  std::vector<double> triangle_, table_;
+};
+
+} // namespace improve
+} // namespace internal
+} // namespace Bubble_mesh_3
+} // namespace CGAL
+
+#endif // CGAL_BUBBLE_MESH_3_INTERNAL_IMPROVE_MESH_IMPROVER_H
