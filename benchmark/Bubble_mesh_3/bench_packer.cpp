@@ -6,13 +6,15 @@
 // Bubble_packer_3 at about 10k, 100k and 1M interior bubbles, with the identity
 // metric (scaled) on the unit cube and with a 1:10 graded anisotropic metric on
 // a 10 x 1 x 1 box (so that most bubbles are interior), on 1 and 2 threads. Prints one table row per run: interior bubbles,
-// iterations, time per iteration, interior-stage time, total time.
+// iterations, time per iteration, interior-stage time, total wall time and
+// process CPU time (all threads).
 //
 //   bench_packer            10k and 100k (default)
 //   bench_packer 1000000    adds the given size (e.g. 1M)
 //   bench_packer --only 20000 --threads 1 --identity   one size, one thread count, one metric
 //   (--graded: the graded metric only; --skin s: Parameters::skin;
-//    --no-population-control: Parameters::population_control = false)
+//    --no-population-control: Parameters::population_control = false;
+//    --slabs: interior bubbles per tenth of the box along x)
 #include <CGAL/Bubble_packer_3.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
@@ -23,6 +25,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -47,8 +50,9 @@ static Polyhedron box(double a)
   return p;
 }
 
-static double bench_skin = 0.3;
+static double bench_skin = -1; // -1: the default of Parameters
 static bool bench_population = true;
+static bool bench_slabs = false;
 
 template <typename Field>
 static void run(const char* name, const Domain& domain, const Field& field, double target, int threads)
@@ -56,20 +60,41 @@ static void run(const char* name, const Domain& domain, const Field& field, doub
   typedef CGAL::Bubble_packer_3<Domain, Field> Packer;
   typename Packer::Parameters prm;
   prm.number_of_threads = threads;
-  prm.skin = bench_skin;
+  if(bench_skin > 0)
+    prm.skin = bench_skin;
   prm.population_control = bench_population;
   Packer packer(domain, field, prm);
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
   packer.run();
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // process CPU time of all threads: on a shared machine, wall time includes waiting
+  const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
   const auto& s3 = packer.statistics().stages[3];
   const auto& s2 = packer.statistics().stages[2];
-  std::printf("%-9s %9.0f %2d | %9zu %5d %s %9.4f %8.2f | %8zu %5d %7.2f | %8.2f | rebuilds %zu rounds %d | nn p05 %.3f p50 %.3f min %.3f\n", name,
+  std::printf("%-9s %9.0f %2d | %9zu %5d %s %9.4f %8.2f | %8zu %5d %7.2f | %8.2f %8.2f | rebuilds %zu rounds %d | nn p05 %.3f p50 %.3f min %.3f\n", name,
               target, threads, s3.bubbles, s3.iterations, s3.converged ? "c" : "-",
-              s3.seconds / std::max(1, s3.iterations), s3.seconds, s2.bubbles, s2.iterations, s2.seconds, total,
+              s3.seconds / std::max(1, s3.iterations), s3.seconds, s2.bubbles, s2.iterations, s2.seconds, total, cpu,
               s3.neighbour_rebuilds, s3.population_rounds,
               packer.statistics().nearest_p05, packer.statistics().nearest_p50, packer.statistics().nearest_min);
   std::fflush(stdout);
+  if(bench_slabs) { // interior bubbles per tenth of the box along x, against the volume estimate
+    std::vector<int> count(10, 0);
+    for(const auto& nd : packer.nodes())
+      if(nd.dimension == 3)
+        count[std::min(9, int(nd.point.x() * 10 / domain.bbox().xmax()))]++;
+    for(int k = 0; k < 10; ++k) {
+      // expected: sqrt2 * int sqrt det M over the slab (bbox of the domain)
+      double e = 0;
+      const double L = domain.bbox().xmax();
+      for(int q = 0; q < 100; ++q) {
+        const double x = L * (k + (q + 0.5) / 100) / 10;
+        e += std::sqrt(2.0) * std::sqrt(field(K::Point_3(x, 0.5, 0.5)).matrix().determinant()) * L / 1000 *
+             (domain.bbox().ymax() * domain.bbox().zmax());
+      }
+      std::printf("  slab %d: %d interior, volume estimate %.0f\n", k, count[k], e);
+    }
+  }
 }
 
 int main(int argc, char** argv)
@@ -85,6 +110,8 @@ int main(int argc, char** argv)
       thread_counts = {std::atoi(argv[++i])};
     } else if(a == "--skin" && i + 1 < argc) {
       bench_skin = std::atof(argv[++i]);
+    } else if(a == "--slabs") {
+      bench_slabs = true;
     } else if(a == "--no-population-control") {
       bench_population = false;
     } else if(a == "--identity") {
@@ -104,7 +131,7 @@ int main(int argc, char** argv)
   Polyhedron p10 = box(10);
   Domain domain10(p10);
   domain10.detect_features(60);
-  std::printf("metric    target    thr | interior  iter   s/iter  stage3_s | surface  iter  stage2_s | total_s\n");
+  std::printf("metric    target    thr | interior  iter   s/iter  stage3_s | surface  iter  stage2_s | total_s    cpu_s\n");
   for(double n : sizes) {
     // identity metric scaled so that sqrt(2)/h^3 = n
     const double h = std::cbrt(std::sqrt(2.0) / n);

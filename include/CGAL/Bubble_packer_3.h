@@ -59,12 +59,15 @@ namespace CGAL {
 /// neighbours in a fixed order and population control is serial, so the result
 /// is bit-identical for any number of threads.
 ///
-/// <b>Neighbour search.</b> Verlet lists over a multi-level grid: a bubble is
-/// stored at the level whose cell size is the smallest power-of-two multiple of
-/// the finest reach that covers its own reach (1.5 + skin times its largest
-/// principal size), so sizes varying by orders of magnitude and stretched
-/// bubbles cost the same; the interaction itself is decided in the metric
-/// (w = l / l0 < 1.5).
+/// <b>Neighbour search.</b> Verlet lists over a multi-level grid whose cells
+/// follow the bubbles' reach ellipsoids axis by axis (metric reach 1.5 +
+/// `Parameters::skin`), so sizes varying by orders of magnitude and stretched
+/// bubbles cost about the same; the interaction itself is decided in the
+/// metric (w = l / l0 < 1.5).
+///
+/// <b>End of a stage.</b> After the dynamics, one bubble of every pair closer
+/// than the traits' minimum distance is deleted and the gaps are filled again,
+/// without moving any bubble, until nothing changes.
 ///
 /// \tparam MeshDomain a model of `MeshDomainWithFeatures_3` whose surface
 ///   patches are known as triangles: `CGAL::Polyhedral_mesh_domain_with_features_3`
@@ -103,7 +106,7 @@ public:
     unsigned int seed = 0;          ///< seeds the lattice offsets of the initial populations
     int number_of_threads = 0;      ///< 0: all available (TBB); 1: serial
     double maximum_number_of_bubbles = 5e7; ///< refuse larger estimates (Invalid_input)
-    double skin = 0.3;              ///< Verlet list margin, in bubble sizes
+    double skin = 0.2;              ///< Verlet list margin, in bubble sizes
     bool population_control = true; ///< adaptive insertion and deletion
     std::size_t curve_samples = 2048; ///< arc-length table size per feature curve
   };
@@ -283,12 +286,9 @@ public:
     const std::size_t n = bubbles_.size();
     if(n < 2)
       return;
-    std::vector<double> reach(n);
     std::vector<char> row(n, 1);
-    for(std::size_t i = 0; i < n; ++i)
-      reach[i] = 1.5 * bubbles_[i].h_max;
     Bubble_mesh_3::internal::packing::Neighbour_lists lists;
-    lists.build(bubbles_, reach, row, 1.5, exec_);
+    lists.build(bubbles_, row, 1.5, exec_);
     std::vector<double> nearest(n, 1.5);
     exec_.for_each(n, [&](std::size_t i) {
       for(const int* j = lists.begin(i); j != lists.end(i); ++j)

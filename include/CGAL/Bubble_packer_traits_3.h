@@ -143,7 +143,7 @@ public:
   /// metric distance of gap probes from the bubble that probes
   double gap_probe_distance(int dim) const { return dim == 1 ? 1.0 : 0.85; }
   /// population control runs every that many iterations
-  int population_control_period() const { return 12; }
+  int population_control_period() const { return 8; }
   /// at most that many population control rounds per stage
   int maximum_population_rounds() const { return 12; }
   /// the population is stable when a round on a relaxed packing inserts and

@@ -277,18 +277,11 @@ TEST(BubblePacker, CubeIdentity3D)
   check_box_3d(Metric::isotropic(0.1), Vec3(1, 1, 1), 60);
 }
 
-// Known failure (see the issue report). Pair distances are measured in the
-// (constant) metric, so min over both ends and midpoint coincide. With the
-// 1:4 stretching along (1,1,0), the edges (0,1,z) and (1,0,z) are thin wedges
-// in metric space (the faces meet at 28 degrees there instead of 90), and so
-// are the corners (0,1,*) and (1,0,*) of the faces z = 0 and z = 1. The 1D
-// stage now keeps curves apart at such corners (was 0.47 between two curve
-// bubbles), but the 2D stage still churns (about +500 -440 per run) on the
-// faces x = 0 and y = 0 next to the thin edges: bubbles of the two faces only
-// repel each other and one face's bubbles are squeezed below 0.65, deleted,
-// and the gap refilled. Measured: min pair 0.53 (surface-surface), coverage
-// 0.79, count ratio 1.08.
-TEST(BubblePacker, DISABLED_CubeStretched1to4)
+// Pair distances are measured in the (constant) metric. With the 1:4
+// stretching along (1,1,0), the faces x = 0 and y = 1 (and x = 1, y = 0) meet
+// at 28 degrees in metric space instead of 90: bubbles of both faces crowd the
+// thin wedge along those edges (they only repel each other).
+TEST(BubblePacker, CubeStretched1to4)
 {
   // 1:4 stretching along (1,1,0), sizes 0.2 and 0.05
   Eigen::Matrix3d r;

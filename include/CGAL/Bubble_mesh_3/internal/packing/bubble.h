@@ -120,6 +120,8 @@ struct Bubble_record {
   int dimension = 3;          // 0 corner, 1 curve, 2 patch, 3 interior
   int entity = 0;             // slot of the corner / curve / patch / subdomain in the domain oracle
   bool fixed = false;         // does not move in the current stage
+  bool gap_free = false;      // the last gap search around it found nothing...
+  Vec3 probed_at = Vec3::Zero(); // ...from here
 };
 
 /// The normalized distance w = l / l0 of two bubbles: l0 = l_i + l_j with

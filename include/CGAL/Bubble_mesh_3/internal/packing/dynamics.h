@@ -36,6 +36,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace CGAL {
@@ -60,6 +62,28 @@ struct Relaxation_result {
   std::size_t neighbour_rebuilds = 0;
 };
 
+// The part of a bubble the force loop reads, packed (one or two cache lines
+// per neighbour instead of the whole record).
+struct Hot_bubble {
+  Vec3 x;
+  Sym3 m;
+  int entity;
+  int fixed;
+};
+
+/// 63-bit Morton key of p in the box [lo, lo + 1/scale]^3
+inline std::uint64_t morton_key(const Vec3& p, const Vec3& lo, double scale)
+{
+  std::uint64_t key = 0;
+  std::uint64_t c[3];
+  for(int d = 0; d < 3; ++d)
+    c[d] = std::uint64_t(std::min(std::max((p[d] - lo[d]) * scale, 0.0), 2097151.0));
+  for(int bit = 20; bit >= 0; --bit)
+    for(int d = 0; d < 3; ++d)
+      key = (key << 1) | ((c[d] >> bit) & 1);
+  return key;
+}
+
 template <typename Traits, typename Constraint, typename Refresh>
 class Relaxation {
 public:
@@ -80,6 +104,7 @@ public:
   Relaxation_result run()
   {
     Relaxation_result result;
+    spatial_sort();
     rebuild(true);
     if(moving_count() == 0) {
       result.converged = true;
@@ -101,9 +126,11 @@ public:
         since_control = 0;
         ++result.population_rounds;
         std::size_t moving = moving_count();
-        const std::size_t deleted = delete_overlapping(b_, lists_, overlap_, nearest_, traits_, moving, dead_);
+        build_wide_lists();
+        const std::size_t deleted = delete_overlapping(b_, wide_, overlap_, nearest_, traits_, moving, dead_);
         moving -= deleted;
-        const std::size_t inserted = fill_gaps(b_, lists_, traits_, constraint_, refresh_, exec_, moving, dead_);
+        const std::size_t inserted =
+            fill_gaps(b_, wide_, wide_reach, traits_, constraint_, refresh_, exec_, moving, dead_, true);
         if(deleted > 0) {
           dead_.resize(b_.size(), 0);
           compact(b_, dead_);
@@ -112,15 +139,20 @@ public:
         result.inserted += inserted;
         // stable: a round on a relaxed packing that changes nothing
         const double churn = traits_.population_stability_fraction() * double(moving);
-        if((double(deleted + inserted) <= churn && still) ||
+        if(double(deleted + inserted) <= churn ||
            result.population_rounds >= traits_.maximum_population_rounds())
           stable = true;
-        if(inserted > 0 || deleted > 0)
+        if(inserted > 0 || deleted > 0) {
+          if(inserted > 0)
+            spatial_sort();
           rebuild(true);
+        }
       } else if(needs_rebuild_) {
         rebuild(true);
       }
     }
+    if(settings_.population_control)
+      clean_up(result);
     result.neighbour_rebuilds = rebuilds_;
     return result;
   }
@@ -134,6 +166,93 @@ public:
   }
 
 private:
+  // The dynamics can leave pairs closer than the deletion threshold where the
+  // packing is under pressure (e.g. bubbles of two patches meeting at a small
+  // metric angle, which only repel). Without moving anything: delete one
+  // bubble of every such pair, then fill the gaps (a new bubble is at least the
+  // insertion threshold from all others), until nothing changes.
+  void clean_up(Relaxation_result& result)
+  {
+    for(int round = 0; round < 8; ++round) {
+      rebuild(true);
+      measure_nearest();
+      std::size_t moving = moving_count();
+      const std::size_t deleted = delete_too_close(b_, lists_, nearest_, traits_, dead_);
+      moving -= deleted;
+      build_wide_lists();
+      // the first search is complete: the main loop's searches were incremental
+      const std::size_t inserted =
+          fill_gaps(b_, wide_, wide_reach, traits_, constraint_, refresh_, exec_, moving, dead_, round > 0);
+      if(deleted > 0) {
+        dead_.resize(b_.size(), 0);
+        compact(b_, dead_);
+      }
+      result.deleted += deleted;
+      result.inserted += inserted;
+      if(deleted == 0 && inserted == 0)
+        break;
+    }
+  }
+
+  // nearest_[i]: the smallest w from moving bubble i to a listed bubble
+  void measure_nearest()
+  {
+    const double cut = force_.cutoff();
+    exec_.for_each(b_.size(), [&](std::size_t i) {
+      const Bubble_record& bi = b_[i];
+      if(bi.fixed)
+        return;
+      double nearest = cut;
+      for(const int* jp = lists_.begin(i); jp != lists_.end(i); ++jp) {
+        const Vec3 d = b_[*jp].x - bi.x;
+        nearest = std::min(nearest, distance_(bi.m.length(d), b_[*jp].m.length(d)));
+      }
+      nearest_[i] = nearest;
+    });
+  }
+
+  // Moving bubbles in Morton order (new ones are appended at the end): the
+  // neighbours of a bubble are then mostly near it in memory. Only the moving
+  // bubbles move in the array, and only when they form its tail.
+  void spatial_sort()
+  {
+    const std::size_t n = b_.size();
+    std::size_t first = n;
+    while(first > 0 && !b_[first - 1].fixed)
+      --first;
+    for(std::size_t i = 0; i < first; ++i)
+      if(!b_[i].fixed)
+        return;
+    const std::size_t m = n - first;
+    if(m < 2)
+      return;
+    Vec3 lo = b_[first].x, hi = lo;
+    for(std::size_t i = first; i < n; ++i) {
+      lo = lo.cwiseMin(b_[i].x);
+      hi = hi.cwiseMax(b_[i].x);
+    }
+    const double span = (hi - lo).maxCoeff();
+    const double scale = span > 0 ? 2097151.0 / span : 0.0;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(m);
+    exec_.for_each(m, [&](std::size_t k) {
+      keys[k] = std::make_pair(morton_key(b_[first + k].x, lo, scale), static_cast<std::uint32_t>(k));
+    });
+    std::sort(keys.begin(), keys.end());
+    std::vector<Bubble_record> sorted(m);
+    exec_.for_each(m, [&](std::size_t k) { sorted[k] = b_[first + keys[k].second]; });
+    std::copy(sorted.begin(), sorted.end(), b_.begin() + first);
+  }
+
+  // Population control needs every bubble near a probe, whatever the skin:
+  // its own lists, of metric reach `wide_reach`, from the current positions.
+  static constexpr double wide_reach = 2.1;
+  void build_wide_lists()
+  {
+    const std::size_t n = b_.size();
+    exec_.for_each(n, [&](std::size_t i) { hot_[i].x = b_[i].x; });
+    wide_.build(hot_, has_row_, wide_reach, exec_);
+  }
+
   void rebuild(bool refresh_metrics)
   {
     const std::size_t n = b_.size();
@@ -143,15 +262,17 @@ private:
           refresh_(b_[i]);
       });
     const double reach_factor = force_.cutoff() + settings_.skin;
-    reach_.resize(n);
     has_row_.resize(n);
     anchor_.resize(n);
-    for(std::size_t i = 0; i < n; ++i) {
-      reach_[i] = reach_factor * b_[i].h_max;
+    hot_.resize(n);
+    minv_.resize(n);
+    exec_.for_each(n, [&](std::size_t i) {
+      minv_[i] = b_[i].m.inverse();
       has_row_[i] = b_[i].fixed ? 0 : 1;
       anchor_[i] = b_[i].x;
-    }
-    lists_.build(b_, reach_, has_row_, reach_factor, exec_);
+      hot_[i] = Hot_bubble{b_[i].x, b_[i].m, b_[i].entity, b_[i].fixed ? 1 : 0};
+    });
+    lists_.build(hot_, has_row_, reach_factor, exec_);
     overlap_.assign(n, 0.0);
     nearest_.assign(n, force_.cutoff());
     displacement_.resize(n);
@@ -167,22 +288,30 @@ private:
     const double cut2 = cut * cut;
     const double max_step = traits_.maximum_step();
     exec_.for_each(n, [&](std::size_t i) {
-      const Bubble_record& bi = b_[i];
+      const Hot_bubble& bi = hot_[i];
       if(bi.fixed)
         return;
-      Vec3 f = Vec3::Zero();
+      // The force is minus the gradient of the pair potentials (phi' = -f) of
+      // w(a, b), metrics frozen, turned into a displacement by M_i^-1:
+      //   F_i = -f(w) (dw/da d / a + dw/db M_i^-1 M_j d / b).
+      // For a constant metric this is -f(w) d / a (the paper's force along the
+      // segment, in metric units); for a varying metric the system stays a
+      // gradient system, hence has no perpetual drift. f: the d / a terms, g: the M_j d terms.
+      Vec3 f = Vec3::Zero(), g = Vec3::Zero();
       double overlap = 0;
       double nearest = cut;
       for(const int* jp = lists_.begin(i); jp != lists_.end(i); ++jp) {
-        const Bubble_record& bj = b_[*jp];
-        const bool pulls = interacts(bi, bj);
+        const Hot_bubble& bj = hot_[*jp];
+        // full force law with fixed bubbles and its own entity; repulsion only otherwise
+        const bool pulls = bj.fixed || bj.entity == bi.entity;
         const Vec3 d = bj.x - bi.x;
         const double a2 = bi.m.squared_length(d);
-        const double b2 = bj.m.squared_length(d);
+        const Vec3 mjd = bj.m * d;
+        const double b2 = d.dot(mjd);
         if(a2 >= cut2 && b2 >= cut2)
           continue;
-        const double a = std::sqrt(a2);
-        const double w = distance_(a, std::sqrt(b2));
+        const double a = std::sqrt(a2), b = std::sqrt(b2);
+        const double w = distance_(a, b);
         if(w >= cut)
           continue;
         overlap += std::max(0.0, 1 - w);
@@ -190,8 +319,11 @@ private:
         if(!pulls && w >= 1)
           continue;
         const double fw = force_(w);
-        if(a > 0) {
-          f -= (fw / a) * d;
+        if(a > 0 && b > 0) {
+          // w = 2ab / (a + b): dw/da = 2 b^2 / (a + b)^2, dw/db = 2 a^2 / (a + b)^2
+          const double k = 2 * fw / ((a + b) * (a + b));
+          f -= (k * b * b / a) * d;
+          g -= (k * a * a / b) * mjd;
         } else {
           // coincident centres: a deterministic push, opposite for the pair
           Vec3 e(1, 0.5, 0.25);
@@ -199,9 +331,10 @@ private:
           f += (std::size_t(*jp) > i ? -fw : fw) * e;
         }
       }
+      f += minv_[i] * g;
       overlap_[i] = overlap;
       nearest_[i] = nearest;
-      Vec3 delta = integrate_(bi.v, f);
+      Vec3 delta = integrate_(b_[i].v, f);
       const double len = bi.m.length(delta);
       if(len > max_step)
         delta *= max_step / len;
@@ -224,6 +357,7 @@ private:
         const Vec3 old = bi.x;
         constraint_.move(bi, displacement_[i]);
         bi.v = bi.x - old;
+        hot_[i].x = bi.x;
         mx = std::max(mx, bi.m.length(bi.v));
         if(bi.m.squared_length(bi.x - anchor_[i]) > drift2)
           flag = 1;
@@ -250,10 +384,12 @@ private:
   typename Traits::Compute_normalized_distance distance_;
   typename Traits::Integrate_step integrate_;
 
-  Neighbour_lists lists_;
-  std::vector<double> reach_, overlap_, nearest_, block_max_;
+  Neighbour_lists lists_, wide_;
+  std::vector<double> overlap_, nearest_, block_max_;
   std::vector<char> has_row_, block_flag_, dead_;
   std::vector<Vec3> anchor_, displacement_;
+  std::vector<Hot_bubble> hot_;
+  std::vector<Sym3> minv_; // M_i^-1
   bool needs_rebuild_ = false;
   std::size_t rebuilds_ = 0;
 };

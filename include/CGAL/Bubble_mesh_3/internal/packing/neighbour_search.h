@@ -5,18 +5,20 @@
 //
 // Contract: Verlet neighbour lists over a multi-level grid.
 //
-// Each bubble i has a Euclidean reach R_i = (w_cut + skin) * h_max_i, where
-// h_max_i is its largest principal size. Two bubbles can interact (normalized
-// distance w <= w_cut) only if min(|d|_Mi, |d|_Mj) <= w_cut (the harmonic mean
-// of the two metric lengths is at least their minimum), hence only if
-// |x_i - x_j| <= max(R_i, R_j). The grid finds the pairs within that Euclidean
-// distance; a pair is kept when min(|d|_Mi, |d|_Mj) <= `metric_reach` (= w_cut +
-// skin), so stretched bubbles keep short lists. Bubble i is stored at
-// the grid level L_i whose cell size s0 * 2^L_i is the smallest >= R_i, and
-// searches the 27 cells around it on levels > L_i and the half shell (13 cells
-// and its own) on L_i; pairs with a bubble of a finer level are found from that
-// bubble's side. So the search is exact for
-// any ratio of sizes, and costs 27 cell look-ups per non-empty level.
+// Each bubble i has a metric reach r = w_cut + skin and, per axis k, a
+// Euclidean extent e_i[k] = r sqrt((M_i^-1)_kk): the half-width of its
+// ellipsoid {d : |d|_Mi <= r}. Two bubbles can interact (normalized distance
+// w <= w_cut) only if min(|d|_Mi, |d|_Mj) <= w_cut (the harmonic mean of the
+// two metric lengths is at least their minimum), hence only if
+// |d_k| <= max(e_i[k], e_j[k]) on every axis. A pair is kept when
+// min(|d|_Mi, |d|_Mj) <= r, so stretched bubbles keep short lists.
+// The grid has per-axis cell sizes (a stretched packing gets stretched
+// cells): level L has cells base[k] 2^L, and bubble i is stored at the
+// smallest level whose cells are at least e_i[k] / 2 on every axis. It
+// searches the 5^3 cells around it on levels > L_i and the half of them (62
+// cells and its own) on L_i; pairs with a bubble of a finer level are found
+// from that bubble's side. So the search is exact for any ratio of sizes, and
+// costs 25 column look-ups (5 cells in z are consecutive) per non-empty level.
 //
 // `build` fills compressed rows: neighbours(i) lists every j with
 // min(|d|_Mi, |d|_Mj) <= metric_reach, sorted by index, for each bubble with
@@ -30,6 +32,7 @@
 #include <CGAL/Bubble_mesh_3/internal/packing/parallel.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -42,10 +45,13 @@ namespace packing {
 
 class Neighbour_lists {
 public:
-  /// Builds the lists. `reach[i]` is R_i; `has_row[i]` tells whether bubble i
-  /// needs its own row (moving bubbles); pairs of two row-less bubbles are skipped.
-  void build(const std::vector<Bubble_record>& bubbles, const std::vector<double>& reach,
-             const std::vector<char>& has_row, double metric_reach, const Parallel_executor& exec)
+  /// Builds the lists of metric reach `metric_reach`. `has_row[i]` tells
+  /// whether bubble i needs its own row (moving bubbles); pairs of two
+  /// row-less bubbles are skipped. `Record` has the position `x` and the
+  /// metric `m` of a bubble.
+  template <typename Record>
+  void build(const std::vector<Record>& bubbles, const std::vector<char>& has_row, double metric_reach,
+             const Parallel_executor& exec)
   {
     metric_reach2_ = metric_reach * metric_reach;
     const std::size_t n = bubbles.size();
@@ -53,7 +59,13 @@ public:
     neighbours_.clear();
     if(n == 0)
       return;
-    setup_grid(bubbles, reach);
+    extent_.resize(n);
+    exec.for_each(n, [&](std::size_t i) {
+      const Sym3 inv = bubbles[i].m.inverse();
+      // inflated by 0.1% against rounding (it only decides the search)
+      extent_[i] = 1.001 * metric_reach * Vec3(std::sqrt(inv.a00), std::sqrt(inv.a11), std::sqrt(inv.a22));
+    });
+    setup_grid(bubbles);
 
     // Cell keys and the sorted (key, index) table.
     entries_.resize(n);
@@ -71,7 +83,7 @@ public:
       std::vector<std::pair<int, int>>& out = block_pairs_[b];
       out.clear();
       for(std::size_t i = begin; i < end; ++i)
-        find_pairs(static_cast<int>(i), bubbles, reach, has_row, out);
+        find_pairs(static_cast<int>(i), bubbles, has_row, out);
     });
 
     // Compressed rows, in block order, then each row sorted by index.
@@ -111,49 +123,68 @@ private:
     int index;
   };
 
+  // cells are 1/stencil of the extents: a (2 stencil + 1)^3 block of cells
+  // holds fewer far candidates than 3^3 cells of the extents
+  static constexpr std::int64_t stencil = 2;
   static constexpr int coordinate_bits = 19;
   static constexpr std::int64_t coordinate_range = std::int64_t(1) << coordinate_bits;
 
-  void setup_grid(const std::vector<Bubble_record>& bubbles, const std::vector<double>& reach)
+  template <typename Record>
+  void setup_grid(const std::vector<Record>& bubbles)
   {
     const std::size_t n = bubbles.size();
     lo_ = bubbles[0].x;
     Vec3 hi = lo_;
-    double rmin = reach[0], rmax = reach[0];
+    Vec3 emin = extent_[0], emax = extent_[0];
     for(std::size_t i = 0; i < n; ++i) {
       lo_ = lo_.cwiseMin(bubbles[i].x);
       hi = hi.cwiseMax(bubbles[i].x);
-      rmin = std::min(rmin, reach[i]);
-      rmax = std::max(rmax, reach[i]);
+      emin = emin.cwiseMin(extent_[i]);
+      emax = emax.cwiseMax(extent_[i]);
     }
-    const double span = std::max((hi - lo_).maxCoeff(), rmax);
-    // The finest cell: the smallest reach, unless the coordinates would overflow.
-    base_ = std::max(rmin, 4 * span / double(coordinate_range));
-    lo_ -= Vec3::Constant(base_);
+    // The finest cells: the smallest extents over the stencil radius, unless
+    // the coordinates would overflow.
+    for(int k = 0; k < 3; ++k) {
+      const double span = std::max(hi[k] - lo_[k], emax[k]);
+      base_[k] = std::max(emin[k] / stencil, 8 * span / double(coordinate_range));
+    }
+    lo_ -= double(stencil) * base_;
     level_.resize(n);
     levels_ = 1;
     for(std::size_t i = 0; i < n; ++i) {
       int l = 0;
-      double s = base_;
-      while(s < reach[i]) {
-        s *= 2;
+      double f = stencil;
+      while(f * base_[0] < extent_[i][0] || f * base_[1] < extent_[i][1] || f * base_[2] < extent_[i][2]) {
+        f *= 2;
         ++l;
       }
       level_[i] = l;
       levels_ = std::max(levels_, l + 1);
     }
-    cell_size_.resize(levels_);
     inv_cell_size_.resize(levels_);
-    for(int l = 0; l < levels_; ++l) {
-      cell_size_[l] = std::ldexp(base_, l);
-      inv_cell_size_[l] = 1 / cell_size_[l];
-    }
+    for(int l = 0; l < levels_; ++l)
+      for(int k = 0; k < 3; ++k)
+        inv_cell_size_[l][k] = 1 / std::ldexp(base_[k], l);
     level_used_.assign(levels_, 0);
-    for(std::size_t i = 0; i < n; ++i)
-      level_used_[level_[i]] = 1;
+    // per level, the box of the occupied cells: a search skips the levels and
+    // columns it does not meet (the levels of a graded packing are far apart)
+    level_box_.assign(levels_, Cell_box{{coordinate_range, coordinate_range, coordinate_range}, {-1, -1, -1}});
+    for(std::size_t i = 0; i < n; ++i) {
+      const int l = level_[i];
+      level_used_[l] = 1;
+      const Vec3 y = bubbles[i].x - lo_;
+      for(int k = 0; k < 3; ++k) {
+        const std::int64_t c = coordinate(y[k], l, k);
+        level_box_[l].lo[k] = std::min(level_box_[l].lo[k], c);
+        level_box_[l].hi[k] = std::max(level_box_[l].hi[k], c);
+      }
+    }
   }
 
-  std::int64_t coordinate(double x, int l) const { return static_cast<std::int64_t>(std::floor(x * inv_cell_size_[l])); }
+  std::int64_t coordinate(double x, int l, int axis) const
+  {
+    return static_cast<std::int64_t>(std::floor(x * inv_cell_size_[l][axis]));
+  }
 
   static std::uint64_t pack(int l, std::int64_t cx, std::int64_t cy, std::int64_t cz)
   {
@@ -164,7 +195,7 @@ private:
   std::uint64_t key(const Vec3& x, int l) const
   {
     const Vec3 y = x - lo_;
-    return pack(l, coordinate(y[0], l), coordinate(y[1], l), coordinate(y[2], l));
+    return pack(l, coordinate(y[0], l, 0), coordinate(y[1], l, 1), coordinate(y[2], l, 2));
   }
 
   static std::uint64_t hash(std::uint64_t k)
@@ -213,36 +244,41 @@ private:
     return nullptr;
   }
 
-  void find_pairs(int i, const std::vector<Bubble_record>& bubbles, const std::vector<double>& reach,
-                  const std::vector<char>& has_row, std::vector<std::pair<int, int>>& out) const
+  template <typename Record>
+  void find_pairs(int i, const std::vector<Record>& bubbles, const std::vector<char>& has_row,
+                  std::vector<std::pair<int, int>>& out) const
   {
     const Vec3& xi = bubbles[i].x;
     const Vec3 y = xi - lo_;
-    const double ri = reach[i];
+    const Vec3& ei = extent_[i];
     const int li = level_[i];
     const Entry* const entries_end = entries_.data() + entries_.size();
     for(int l = li; l < levels_; ++l) {
       if(!level_used_[l])
         continue;
-      const std::int64_t cx = coordinate(y[0], l), cy = coordinate(y[1], l), cz = coordinate(y[2], l);
+      const std::int64_t cx = coordinate(y[0], l, 0), cy = coordinate(y[1], l, 1), cz = coordinate(y[2], l, 2);
+      const Cell_box& box = level_box_[l];
+      if(cx + stencil < box.lo[0] || cx - stencil > box.hi[0] || cy + stencil < box.lo[1] ||
+         cy - stencil > box.hi[1] || cz + stencil < box.lo[2] || cz - stencil > box.hi[2])
+        continue;
       const bool own = (l == li);
-      for(std::int64_t dx = -1; dx <= 1; ++dx)
-        for(std::int64_t dy = -1; dy <= 1; ++dy) {
+      for(std::int64_t dx = -stencil; dx <= stencil; ++dx)
+        for(std::int64_t dy = -stencil; dy <= stencil; ++dy) {
           // On its own level, a pair is found from the bubble whose cell is
           // lexicographically smaller (half shell), or, in one cell, from the
           // smaller index. The cells (ax, ay, z0..z1) are consecutive in the
           // sorted table: one look-up finds the first non-empty one.
-          std::int64_t z0 = cz - 1;
-          const std::int64_t z1 = cz + 1;
+          std::int64_t z0 = cz - stencil;
+          const std::int64_t z1 = cz + stencil;
           if(own && (dx < 0 || (dx == 0 && dy < 0)))
             continue;
           if(own && dx == 0 && dy == 0)
             z0 = cz;
           const std::int64_t ax = cx + dx, ay = cy + dy;
-          if(ax < 0 || ay < 0 || ax >= coordinate_range || ay >= coordinate_range)
+          if(ax < box.lo[0] || ay < box.lo[1] || ax > box.hi[0] || ay > box.hi[1])
             continue;
-          z0 = std::max<std::int64_t>(z0, 0);
-          const std::int64_t z1c = std::min<std::int64_t>(z1, coordinate_range - 1);
+          z0 = std::max<std::int64_t>(z0, box.lo[2]);
+          const std::int64_t z1c = std::min<std::int64_t>(z1, box.hi[2]);
           const Entry* e = nullptr;
           for(std::int64_t z = z0; z <= z1c && e == nullptr; ++z) {
             const Entry* last;
@@ -258,9 +294,10 @@ private:
               continue;
             if(!has_row[i] && !has_row[j])
               continue;
-            const double r = std::max(ri, reach[j]);
             const Vec3 d = bubbles[j].x - xi;
-            if(d.squaredNorm() > r * r)
+            const Vec3& ej = extent_[j];
+            if(std::abs(d[0]) > std::max(ei[0], ej[0]) || std::abs(d[1]) > std::max(ei[1], ej[1]) ||
+               std::abs(d[2]) > std::max(ei[2], ej[2]))
               continue;
             // decided in the metric: min(|d|_Mi, |d|_Mj) <= metric reach
             if(bubbles[i].m.squared_length(d) <= metric_reach2_ || bubbles[j].m.squared_length(d) <= metric_reach2_)
@@ -270,6 +307,10 @@ private:
     }
   }
 
+  struct Cell_box {
+    std::array<std::int64_t, 3> lo, hi;
+  };
+
   struct Slot {
     std::uint64_t key;
     std::uint32_t first, last;
@@ -277,12 +318,14 @@ private:
   static constexpr std::uint64_t empty_key = ~std::uint64_t(0);
 
   Vec3 lo_ = Vec3::Zero();
-  double base_ = 1;
+  Vec3 base_ = Vec3::Ones();
+  std::vector<Vec3> extent_;
   double metric_reach2_ = 1;
   int levels_ = 1;
   std::vector<int> level_;
   std::vector<char> level_used_;
-  std::vector<double> cell_size_, inv_cell_size_;
+  std::vector<Cell_box> level_box_;
+  std::vector<std::array<double, 3>> inv_cell_size_;
   std::vector<Entry> entries_;
   std::vector<Slot> slots_;
   std::size_t mask_ = 0;

@@ -96,125 +96,218 @@ std::size_t delete_overlapping(const std::vector<Bubble_record>& bubbles, const 
   return count;
 }
 
+/// Clean-up deletion: flags the moving bubbles whose nearest neighbour is
+/// closer than the traits' minimum distance, the closest first; a bubble whose too-close partner is
+/// already flagged is kept (one of each pair goes). Returns the count.
+template <typename Traits>
+std::size_t delete_too_close(const std::vector<Bubble_record>& bubbles, const Neighbour_lists& lists,
+                             const std::vector<double>& nearest, const Traits& traits, std::vector<char>& dead)
+{
+  dead.assign(bubbles.size(), 0);
+  std::vector<int> candidates;
+  for(std::size_t i = 0; i < bubbles.size(); ++i)
+    if(!bubbles[i].fixed && nearest[i] < traits.minimum_distance_deletion_threshold(bubbles[i].dimension))
+      candidates.push_back(static_cast<int>(i));
+  std::sort(candidates.begin(), candidates.end(),
+            [&](int a, int b) { return nearest[a] < nearest[b] || (nearest[a] == nearest[b] && a < b); });
+  std::size_t count = 0;
+  for(int i : candidates) {
+    const double w_min = traits.minimum_distance_deletion_threshold(bubbles[i].dimension);
+    bool still_close = false;
+    for(const int* j = lists.begin(i); j != lists.end(i) && !still_close; ++j)
+      if(!dead[*j] && normalized_distance_to(bubbles[i].x, bubbles[i].m, bubbles[*j]) < w_min)
+        still_close = true;
+    if(!still_close)
+      continue;
+    dead[i] = 1;
+    ++count;
+  }
+  return count;
+}
+
 /// The best gap next to each moving bubble. `Constraint` gives the probe
 /// directions (metric length 1, tangent to the bubble's entity) and places a
 /// new bubble on the entity (`place(record, point)`, false when impossible).
 template <typename Traits, typename Constraint, typename Refresh>
-std::size_t fill_gaps(std::vector<Bubble_record>& bubbles, const Neighbour_lists& lists, const Traits& traits,
+std::size_t fill_gaps(std::vector<Bubble_record>& bubbles, const Neighbour_lists& lists, double list_reach,
+                      const Traits& traits,
                       const Constraint& constraint, const Refresh& refresh, const Parallel_executor& exec,
-                      std::size_t moving, const std::vector<char>& dead)
+                      std::size_t moving, const std::vector<char>& dead, bool incremental)
 {
   const std::size_t n = bubbles.size();
+  // Incremental search: a bubble is searched again only when it, or a listed
+  // neighbour, moved more than `drift` since its last search, was searched
+  // with a result, or lost a neighbour. (Gaps open by motion or deletion.)
+  std::vector<char> search(n, 1);
+  if(incremental) {
+    const double drift = 0.05;
+    std::vector<char> changed(n, 0);
+    exec.for_each(n, [&](std::size_t i) {
+      const Bubble_record& b = bubbles[i];
+      changed[i] = dead[i] || (!b.fixed && (!b.gap_free || b.m.squared_length(b.x - b.probed_at) > drift * drift));
+    });
+    exec.for_each(n, [&](std::size_t i) {
+      if(bubbles[i].fixed || dead[i])
+        return;
+      char s = changed[i];
+      for(const int* j = lists.begin(i); j != lists.end(i) && !s; ++j)
+        s = changed[*j];
+      search[i] = s;
+    });
+  }
+  // the best candidate of each bubble, collected per block (deterministic)
   struct Candidate {
-    double score = -1;
+    int origin;
+    double score;
     Bubble_record record;
   };
-  std::vector<Candidate> best(n);
-  exec.for_each(n, [&](std::size_t ii) {
-    const int i = static_cast<int>(ii);
-    const Bubble_record& bi = bubbles[i];
-    if(bi.fixed || dead[i])
-      return;
-    // The score of a point p is its normalized distance to the nearest of bi
-    // and its neighbours (computed in bi's metric at p). The neighbours are
-    // visited nearest to bi first, and a scan stops as soon as the score is
-    // below `bound` (the caller only needs to know that it is): a probe at 0.85
-    // from bi is usually near one of bi's first neighbours.
-    thread_local std::vector<std::pair<double, const Bubble_record*>> near;
-    near.clear();
-    near.emplace_back(0.0, &bi);
-    for(const int* j = lists.begin(i); j != lists.end(i); ++j)
-      if(!dead[*j])
-        near.emplace_back(bi.m.squared_length(bubbles[*j].x - bi.x), &bubbles[*j]);
-    std::sort(near.begin() + 1, near.end(), [](const auto& a, const auto& b) {
-      return a.first < b.first || (a.first == b.first && a.second < b.second);
-    });
-    // returns the score (or any value below `bound`) and the nearest bubble
-    auto score = [&](const Vec3& p, double bound, const Bubble_record*& nearest) {
-      double sc = std::numeric_limits<double>::infinity();
-      nearest = &bi;
-      for(const auto& e : near) {
-        const double d = normalized_distance_to(p, bi.m, *e.second);
-        if(d < sc) {
-          sc = d;
-          nearest = e.second;
-          if(sc < bound)
-            break;
-        }
-      }
-      return sc;
+  const std::size_t nb = Parallel_executor::number_of_blocks(n);
+  std::vector<std::vector<Candidate>> found(nb);
+  exec.for_each_block(n, [&](std::size_t blk, std::size_t begin, std::size_t end) {
+    struct Near {
+      Vec3 y; // position in bi's metric frame, y = Q (x_j - x_i)
+      const Bubble_record* b;
     };
-    const double threshold = traits.gap_insertion_threshold(bi.dimension);
-    const double r = traits.gap_probe_distance(bi.dimension);
-    const double refine_bound = 0.5 * threshold;
-    std::array<Vec3, 32> directions;
-    const int nd = constraint.probe_directions(bi, directions.data());
-    // the probes, best first; the three best are refined towards the centre
-    // of their hole (ascent of the distance to the nearest bubble)
-    std::array<std::pair<double, int>, 32> order;
-    std::array<const Bubble_record*, 32> nearest_of;
-    for(int k = 0; k < nd; ++k)
-      order[k] = std::make_pair(-score(bi.x + r * directions[k], refine_bound, nearest_of[k]), k);
-    std::sort(order.begin(), order.begin() + nd);
-    for(int kk = 0; kk < std::min(nd, 3); ++kk) {
-      Vec3 p = bi.x + r * directions[order[kk].second];
-      double s = -order[kk].first;
-      if(s < refine_bound)
-        break;
-      const Bubble_record* nearest = nearest_of[order[kk].second];
-      double step = 0.25 * r;
-      // (a step below 0.04 r no longer changes which hole is filled)
-      for(int it = 0; it < 12 && step > 0.04 * r; ++it) {
-        const Vec3 away = p - nearest->x;
-        const double la = bi.m.length(away);
-        if(!(la > 0))
-          break;
-        const Vec3 q = p + (step / la) * away;
-        const Bubble_record* nq;
-        const double sq = score(q, s, nq); // only "better than s" matters
-        if(sq > s) {
-          p = q;
-          s = sq;
-          nearest = nq;
-        } else {
-          step *= 0.5;
+    std::vector<Near> near;
+    for(std::size_t ii = begin; ii < end; ++ii) {
+      const int i = static_cast<int>(ii);
+      Bubble_record& bi = bubbles[i];
+      if(bi.fixed || dead[i] || !search[i])
+        continue;
+      bi.gap_free = false;
+      bi.probed_at = bi.x;
+      const double threshold = traits.gap_insertion_threshold(bi.dimension);
+      const double r = traits.gap_probe_distance(bi.dimension);
+      const double refine_bound = 0.5 * threshold;
+      // a candidate farther from bi than this could be near an unlisted bubble
+      // (the lists hold every bubble within metric distance `list_reach`; 0.05
+      // is left for the difference of neighbouring metrics)
+      const double reach = std::min(1.1, list_reach - threshold - 0.05);
+      const Eigen::Matrix3d q = bi.m.cholesky_upper();
+      auto frame = [&](const Vec3& x) {
+        const Vec3 d = x - bi.x;
+        return Vec3(q(0, 0) * d[0] + q(0, 1) * d[1] + q(0, 2) * d[2], q(1, 1) * d[1] + q(1, 2) * d[2],
+                    q(2, 2) * d[2]);
+      };
+      // the bubbles that can be within the threshold of a candidate
+      const double keep2 = (reach + threshold + 0.05) * (reach + threshold + 0.05);
+      near.clear();
+      near.push_back(Near{Vec3::Zero(), &bi});
+      for(const int* j = lists.begin(i); j != lists.end(i); ++j)
+        if(!dead[*j]) {
+          const Vec3 y = frame(bubbles[*j].x);
+          if(y.squaredNorm() <= keep2)
+            near.push_back(Near{y, &bubbles[*j]});
         }
+      // Search score of a point p: its metric distance, in bi's metric, to the
+      // nearest bubble (exact for a constant metric; it only guides the
+      // search). Any value below `bound` may be returned for a lower score.
+      auto search_score = [&](const Vec3& p, double bound, const Bubble_record*& nearest) {
+        const Vec3 y = frame(p);
+        double best2 = std::numeric_limits<double>::infinity();
+        const double bound2 = bound * bound;
+        nearest = &bi;
+        for(const Near& e : near) {
+          const double d2 = (e.y - y).squaredNorm();
+          if(d2 < best2) {
+            best2 = d2;
+            nearest = e.b;
+            if(best2 < bound2)
+              break;
+          }
+        }
+        return std::sqrt(best2);
+      };
+      // exact score: the normalized distance w to the nearest bubble
+      auto exact_score = [&](const Vec3& p, const Sym3& mp) {
+        double sc = std::numeric_limits<double>::infinity();
+        for(const Near& e : near)
+          sc = std::min(sc, normalized_distance_to(p, mp, *e.b));
+        return sc;
+      };
+      std::array<Vec3, 32> directions;
+      const int nd = constraint.probe_directions(bi, directions.data());
+      // the probes, best first; the three best are refined towards the centre
+      // of their hole (ascent of the distance to the nearest bubble)
+      std::array<std::pair<double, int>, 32> order;
+      std::array<const Bubble_record*, 32> nearest_of;
+      for(int k = 0; k < nd; ++k)
+        order[k] = std::make_pair(-search_score(bi.x + r * directions[k], refine_bound, nearest_of[k]), k);
+      std::sort(order.begin(), order.begin() + nd);
+      double best_score = -1;
+      Bubble_record best_record;
+      for(int kk = 0; kk < std::min(nd, 3); ++kk) {
+        Vec3 p = bi.x + r * directions[order[kk].second];
+        double s = -order[kk].first;
+        if(s < refine_bound)
+          break;
+        const Bubble_record* nearest = nearest_of[order[kk].second];
+        double step = 0.25 * r;
+        // (a step below 0.04 r no longer changes which hole is filled)
+        for(int it = 0; it < 12 && step > 0.04 * r; ++it) {
+          Vec3 away = p - nearest->x;
+          // stay on the entity's tangent space (the nearest bubble may lie on
+          // another patch or curve)
+          if(bi.dimension == 2)
+            away -= away.dot(bi.n) * bi.n;
+          else if(bi.dimension == 1)
+            away = away.dot(directions[0]) / directions[0].squaredNorm() * directions[0];
+          const double la = bi.m.length(away);
+          if(!(la > 0))
+            break;
+          const Vec3 qp = p + (step / la) * away;
+          // the score only sees bi's listed neighbours: stay near bi
+          if(bi.m.length(qp - bi.x) > reach) {
+            step *= 0.5;
+            continue;
+          }
+          const Bubble_record* nq;
+          const double sq = search_score(qp, s, nq); // only "better than s" matters
+          if(sq > s) {
+            p = qp;
+            s = sq;
+            nearest = nq;
+          } else {
+            step *= 0.5;
+          }
+        }
+        if(s < threshold || s <= best_score)
+          continue;
+        Bubble_record c = bi;
+        c.v = Vec3::Zero();
+        c.gap_free = false;
+        if(!constraint.place(c, p) || bi.m.length(c.x - bi.x) > reach)
+          continue;
+        refresh(c);
+        s = exact_score(c.x, c.m);
+        if(s < threshold || s <= best_score)
+          continue;
+        best_score = s;
+        best_record = c;
       }
-      if(s < threshold || s <= best[i].score)
-        continue;
-      Bubble_record nb = bi;
-      nb.v = Vec3::Zero();
-      if(!constraint.place(nb, p))
-        continue;
-      const Bubble_record* unused;
-      s = score(nb.x, std::max(threshold, best[i].score), unused);
-      if(s < threshold || s <= best[i].score)
-        continue;
-      best[i].score = s;
-      best[i].record = nb;
+      if(best_score >= 0)
+        found[blk].push_back(Candidate{i, best_score, best_record});
+      bi.gap_free = best_score < 0;
     }
   });
-  std::vector<int> candidates;
-  for(std::size_t i = 0; i < n; ++i)
-    if(best[i].score >= 0)
-      candidates.push_back(static_cast<int>(i));
-  if(candidates.empty())
+  std::vector<Candidate> all;
+  for(auto& f : found)
+    all.insert(all.end(), f.begin(), f.end());
+  if(all.empty())
     return 0;
-  std::sort(candidates.begin(), candidates.end(), [&](int a, int b) {
-    return best[a].score > best[b].score || (best[a].score == best[b].score && a < b);
+  std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) {
+    return a.score > b.score || (a.score == b.score && a.origin < b.origin);
   });
   const std::size_t limit = std::max<std::size_t>(1, std::size_t(traits.maximum_change_fraction() * moving));
-  std::vector<char> accepted(n, 0);
+  std::vector<int> accepted(n, -1); // origin -> slot in `all` of its accepted candidate
   std::size_t count = 0;
-  for(int i : candidates) {
-    if(count >= limit)
-      break;
-    const Bubble_record& c = best[i].record;
+  for(std::size_t a = 0; a < all.size() && count < limit; ++a) {
+    const Bubble_record& c = all[a].record;
     const double threshold = traits.gap_insertion_threshold(c.dimension);
     auto conflicts = [&](int j) {
-      return accepted[j] &&
-             normalized_distance_to(c.x, c.m, best[j].record) < threshold;
+      return accepted[j] >= 0 && normalized_distance_to(c.x, c.m, all[accepted[j]].record) < threshold;
     };
+    const int i = all[a].origin;
     bool blocked = false;
     for(const int* j = lists.begin(i); j != lists.end(i) && !blocked; ++j) {
       if(conflicts(*j))
@@ -225,14 +318,13 @@ std::size_t fill_gaps(std::vector<Bubble_record>& bubbles, const Neighbour_lists
     }
     if(blocked)
       continue;
-    accepted[i] = 1;
+    accepted[i] = static_cast<int>(a);
     ++count;
   }
-  const std::size_t first_new = bubbles.size();
-  for(int i : candidates)
-    if(accepted[i])
-      bubbles.push_back(best[i].record);
-  exec.for_each(bubbles.size() - first_new, [&](std::size_t k) { refresh(bubbles[first_new + k]); });
+  // appended in the order of their origins
+  for(std::size_t i = 0; i < n; ++i)
+    if(accepted[i] >= 0)
+      bubbles.push_back(all[accepted[i]].record);
   return count;
 }
 

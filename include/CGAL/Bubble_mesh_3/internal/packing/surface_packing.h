@@ -95,13 +95,13 @@ public:
     Vec3 e1, e2;
     tangent_basis(b.n, e1, e2);
     const Plane_metric pm(b.m, e1, e2);
-    for(int k = 0; k < 12; ++k) {
-      const double a = k * (3.14159265358979323846 / 6);
+    for(int k = 0; k < 24; ++k) {
+      const double a = k * (3.14159265358979323846 / 12);
       double c1, c2;
       pm.solve(std::cos(a), std::sin(a), c1, c2);
       out[k] = c1 * e1 + c2 * e2;
     }
-    return 12;
+    return 24;
   }
 
   bool place(Bubble_record& b, const Vec3& p) const
