@@ -412,13 +412,19 @@ private:
 
   // ---------------------------------------------------------- candidates
   /// live nodes strictly on the inner side of f within the box
-  void candidates(const Triangle& f, const Box& b, std::vector<int>& out) const
+  void candidates(const Triangle& f, const Box& b, std::vector<int>& out, const Box* skip = nullptr) const
   {
     auto orientation = traits_.orientation_3_object();
     out.clear();
     nodes_.query(b, [&](int q) {
       if(q == f[0] || q == f[1] || q == f[2] || !is_alive_node(q))
         return;
+      if(skip != nullptr) {
+        const P3& x = xyz_[q];
+        if(x[0] >= skip->lo[0] && x[0] <= skip->hi[0] && x[1] >= skip->lo[1] && x[1] <= skip->hi[1] &&
+           x[2] >= skip->lo[2] && x[2] <= skip->hi[2])
+          return;
+      }
       if(orientation(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[q]) == CGAL::POSITIVE)
         out.push_back(q);
     });
@@ -440,27 +446,38 @@ private:
   {
     const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
     auto side = traits_.side_of_oriented_metric_sphere_SOS_3_object();
+    // The Delaunay node minimises a strict total order along the pencil of
+    // spheres through f ("q inside the sphere of (f, best)" means q comes
+    // first), so one scan finds it and a scan can continue over nodes added
+    // by a larger box: nodes of an already scanned box are skipped.
     Box box = search_box(f, m, 1.0);
+    Box scanned;
+    bool has_scanned = false;
+    int best = -1;
     for(int attempt = 0; attempt < 6; ++attempt) {
-      candidates(f, box, cand_);
-      if(cand_.empty()) {
-        box = search_box(f, m, double(2 << attempt));
-        continue;
-      }
-      int best = cand_.front();
+      candidates(f, box, cand_, has_scanned ? &scanned : nullptr);
       for(int q : cand_) {
-        if(q == best)
+        if(best < 0) {
+          best = q;
           continue;
+        }
         if(side(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[best], pts_[q], m, std::size_t(f[0]), std::size_t(f[1]),
                 std::size_t(f[2]), std::size_t(best), std::size_t(q)) == CGAL::ON_POSITIVE_SIDE)
           best = q;
+      }
+      scanned = box;
+      has_scanned = true;
+      if(best < 0) {
+        box = search_box(f, m, double(2 << attempt));
+        box.extend(scanned);
+        continue;
       }
       Box sphere;
       if(!circumsphere_box(f, best, m, sphere) || box.contains(sphere) || attempt == 5)
         return best;
       box.extend(sphere);
     }
-    return -1;
+    return best;
   }
 
   // ---------------------------------------------------------- removability

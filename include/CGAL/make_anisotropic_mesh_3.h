@@ -29,6 +29,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <ostream>
 #include <sstream>
@@ -170,7 +171,7 @@ struct Meshing_settings {
   bool allow_steiner = true;
   bool verbose = false;
   bool improve = true;
-  double improve_time_limit = -1;
+  double improve_time_limit = std::numeric_limits<double>::infinity();
   std::function<void(const std::string&)> progress;
   Meshing_report* report = nullptr;
 };
@@ -189,7 +190,8 @@ Meshing_settings resolve_settings(const NP& np)
   s.verbose = choose_parameter(get_parameter(np, CGAL::internal_np::verbose), false);
   s.improve = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::mesh_improvement), true);
   s.improve_time_limit =
-      choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::improvement_time_limit), -1.0);
+      choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::improvement_time_limit),
+                       std::numeric_limits<double>::infinity());
   s.progress = choose_parameter(get_parameter(np, CGAL::internal_np::callback),
                                 std::function<void(const std::string&)>());
   s.report = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::meshing_report),
@@ -478,8 +480,9 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///     strictly inside} \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
 ///   \cgalParamNBegin{mesh_improvement} \cgalParamDescription{metric flips and smoothing after the front
 ///     (`Bubble_mesh_3::improve_mesh()`)} \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
-///   \cgalParamNBegin{improvement_time_limit} \cgalParamDescription{seconds for it; negative: 2 s + 10 s per 100k
-///     tets (a run cut by the limit is not reproducible)} \cgalParamType{double} \cgalParamDefault{-1} \cgalParamNEnd
+///   \cgalParamNBegin{improvement_time_limit} \cgalParamDescription{seconds for it (negative: 2 s + 10 s per 100k
+///     tets); without it the work is bounded by a number of passes and the result is reproducible, with it a run
+///     cut by the limit is not} \cgalParamType{double} \cgalParamDefault{no limit} \cgalParamNEnd
 ///   \cgalParamNBegin{callback} \cgalParamDescription{progress messages}
 ///     \cgalParamType{std::function<void(const std::string&)>} \cgalParamDefault{none} \cgalParamNEnd
 ///   \cgalParamNBegin{meshing_report} \cgalParamDescription{filled with counts and times}

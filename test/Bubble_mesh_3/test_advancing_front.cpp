@@ -288,8 +288,9 @@ TEST(AdvancingFront, CavityFillersAloneGiveValidMeshes)
               << s.steiner_points << "\n";
   }
   EXPECT_GT(cavities, 8u);
-  if(BM::internal::front::cavity_filling_has_tetgen)
+  if(BM::internal::front::cavity_filling_has_tetgen) {
     EXPECT_GT(tetgen, 0u);
+  }
 }
 
 TEST(AdvancingFront, LShapeNonConvex)

@@ -993,8 +993,7 @@ TEST(BoundaryFront, Scale)
     const Constant_field field;
     const Boundary_front f = build_boundary_front(s, nodes, field);
     const Report r = check_front(s, nodes, f, field);
-    print("cube, coarse input, 20k nodes", s, r, f);
-    EXPECT_LT(f.seconds, 30.0);
+    print("cube, coarse input, 20k nodes", s, r, f); // time is printed, not tested (benchmarks measure it)
   }
   {
     const Boundary_surface s = icosphere(6);
@@ -1004,7 +1003,6 @@ TEST(BoundaryFront, Scale)
     const Boundary_front f = build_boundary_front(s, nodes, field);
     const Report r = check_front(s, nodes, f, field, 2, 0.01);
     print("sphere, 40k-vertex input", s, r, f);
-    EXPECT_LT(f.seconds, 30.0);
   }
 }
 

@@ -291,9 +291,17 @@ std::vector<char> free_vertices(const BM::Indexed_tet_mesh_3& mesh)
   return free;
 }
 
+// no time limit: the same work whatever the build type or machine load
+BM::Improvement_options deterministic()
+{
+  BM::Improvement_options o;
+  o.time_limit_seconds = std::numeric_limits<double>::infinity();
+  return o;
+}
+
 template <typename Field>
 BM::Improvement_report improve_and_check(BM::Indexed_tet_mesh_3& mesh, const Field& field, const std::string& name,
-                                         const BM::Improvement_options& options = {})
+                                         BM::Improvement_options options = deterministic())
 {
   BM::Validity_options vo;
   vo.require_outward_triangles = true;
@@ -507,7 +515,7 @@ TEST(ImproveMesh, SliverWithFlipsOnly)
   // same sliver; without smoothing the flips alone must destroy it
   BM::Indexed_tet_mesh_3 mesh = delaunay_mesh(sliver_points());
   CGAL::Constant_metric_field_3<K> field(identity_metric);
-  BM::Improvement_options options;
+  BM::Improvement_options options = deterministic();
   options.smoothing = false;
   const BM::Improvement_report r = improve_and_check(mesh, field, "sliver, flips only", options);
   EXPECT_EQ(r.smoothing_moves, 0u);
@@ -574,7 +582,7 @@ TEST(ImproveMesh, BipyramidTwoThreeAndThreeTwo)
     CGAL::Constant_metric_field_3<K> field(identity_metric);
     const double q_two = BM::compute_quality_report(two, field).min_dihedral.worst;
     const double q_three = BM::compute_quality_report(three, field).min_dihedral.worst;
-    BM::Improvement_options options;
+    BM::Improvement_options options = deterministic();
     options.target_angle = 90; // work on everything
     const std::string name = "bipyramid h=" + std::to_string(height);
     const BM::Improvement_report r2 = improve_and_check(two, field, name + " from 2 tets", options);
@@ -603,7 +611,7 @@ TEST(ImproveMesh, BoundaryEdgeIsNeverRemoved)
   mesh.point_refs.assign(6, 0);
   const BM::Indexed_tet_mesh_3 before = mesh;
   CGAL::Constant_metric_field_3<K> field(identity_metric);
-  BM::Improvement_options options;
+  BM::Improvement_options options = deterministic();
   options.target_angle = 90;
   const BM::Improvement_report r = improve_and_check(mesh, field, "boundary edge", options);
   EXPECT_EQ(r.flips_2_3 + r.flips_3_2 + r.flips_4_4 + r.edge_removals + r.smoothing_moves, 0u);
@@ -618,14 +626,14 @@ TEST(ImproveMesh, SmoothingOnlyAndFlipsOnly)
   const BM::Indexed_tet_mesh_3 input = delaunay_mesh(random_cube_points(600, 21));
   CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.1));
   BM::Indexed_tet_mesh_3 a = input, b = input;
-  BM::Improvement_options smoothing_only;
+  BM::Improvement_options smoothing_only = deterministic();
   smoothing_only.flips = false;
   const BM::Improvement_report ra = improve_and_check(a, field, "smoothing only", smoothing_only);
   EXPECT_EQ(ra.flips_2_3 + ra.flips_3_2 + ra.flips_4_4 + ra.edge_removals, 0u);
   EXPECT_EQ(a.tets.size(), input.tets.size());
   EXPECT_GT(ra.smoothing_moves, 0u);
   EXPECT_GT(ra.worst_after, ra.worst_before);
-  BM::Improvement_options flips_only;
+  BM::Improvement_options flips_only = deterministic();
   flips_only.smoothing = false;
   const BM::Improvement_report rb = improve_and_check(b, field, "flips only", flips_only);
   EXPECT_EQ(rb.smoothing_moves, 0u);
