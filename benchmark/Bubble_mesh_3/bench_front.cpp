@@ -130,6 +130,20 @@ static void run_case(const char* name, const Domain& domain, double volume, doub
     if(n.dimension == 3)
       points.emplace_back(CGAL::to_double(n.point.x()), CGAL::to_double(n.point.y()), CGAL::to_double(n.point.z()));
 
+  // BM3_FRONT_DUMP=FILE writes the front's input (points, boundary triangles)
+  // to profile the front alone
+  if(const char* dump = std::getenv("BM3_FRONT_DUMP")) {
+    if(FILE* out = std::fopen(dump, "w")) {
+      std::fprintf(out, "%zu\n", points.size());
+      for(const auto& p : points)
+        std::fprintf(out, "%.17g %.17g %.17g\n", p.x(), p.y(), p.z());
+      std::fprintf(out, "%zu\n", bf.triangles.size());
+      for(const auto& t : bf.triangles)
+        std::fprintf(out, "%d %d %d\n", t[0], t[1], t[2]);
+      std::fclose(out);
+    }
+  }
+
   // 3. the front (connection), timed
   Front::Result r;
   double front_seconds = 0;

@@ -26,6 +26,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -153,6 +154,7 @@ private:
 
   struct Face {
     Triangle v;
+    Box box; // of its vertices
     bool alive = true;
     bool waiting = false;      // its Delaunay pair was not removable
     bool fallback_dirty = true;
@@ -271,18 +273,19 @@ private:
       for(int v : g.v)
         --front_count_[v];
       face_of_.erase(it);
-      faces_grid_.remove(static_cast<int>(&g - faces_.data()), box_of({g.v[0], g.v[1], g.v[2]}));
+      faces_grid_.remove(static_cast<int>(&g - faces_.data()), g.box);
       return;
     }
     const int id = static_cast<int>(faces_.size());
     Face f;
     f.v = t;
+    f.box = box_of({t[0], t[1], t[2]});
     faces_.push_back(f);
     face_of_.emplace(key, id);
     ++alive_faces_;
     for(int v : t)
       ++front_count_[v];
-    faces_grid_.insert(id, box_of({t[0], t[1], t[2]}));
+    faces_grid_.insert(id, f.box);
     queue_.push_back(id);
   }
 
@@ -363,9 +366,14 @@ private:
   }
 
   /// the Euclidean box of the points within metric distance r of x
-  static Box metric_ball_box(const P3& x, double r, const Metric& m)
+  Box metric_ball_box(const P3& x, double r, const Metric& m) const
   {
-    const Eigen::Matrix3d qi = m.Q_inverse();
+    // the same metric is asked for several boxes of one decision
+    if(!(qi_metric_ && *qi_metric_ == m)) {
+      qi_ = m.Q_inverse();
+      qi_metric_ = m;
+    }
+    const Eigen::Matrix3d& qi = qi_;
     Box b;
     for(int k = 0; k < 3; ++k) {
       const double e = r * qi.row(k).norm();
@@ -415,6 +423,7 @@ private:
   void candidates(const Triangle& f, const Box& b, std::vector<int>& out, const Box* skip = nullptr) const
   {
     auto orientation = traits_.orientation_3_object();
+    const Bubble_mesh_3::internal::front::Plane_side_filter plane(pts_[f[0]], pts_[f[1]], pts_[f[2]]);
     out.clear();
     nodes_.query(b, [&](int q) {
       if(q == f[0] || q == f[1] || q == f[2] || !is_alive_node(q))
@@ -425,7 +434,9 @@ private:
            x[2] >= skip->lo[2] && x[2] <= skip->hi[2])
           return;
       }
-      if(orientation(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[q]) == CGAL::POSITIVE)
+      const CGAL::Orientation quick = plane(pts_[q]);
+      if(quick == CGAL::POSITIVE ||
+         (quick == CGAL::COPLANAR && orientation(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[q]) == CGAL::POSITIVE))
         out.push_back(q);
     });
   }
@@ -507,7 +518,9 @@ private:
       if(!ok || gid == fid || !faces_[gid].alive)
         return;
       const Triangle& g = faces_[gid].v;
-      const Box gb = box_of({g[0], g[1], g[2]});
+      const Box& gb = faces_[gid].box;
+      if(!b.meets(gb))
+        return;
       for(int i = 0; i < 3 && ok; ++i)
         if(gid != partner[i] && nb[i].meets(gb) && F::triangles_meet_beyond_shared(nf[i], g, pts_, traits_))
           ok = false;
@@ -832,6 +845,8 @@ private:
   std::vector<int> cand_;
   long alive_faces_ = 0;
   long budget_ = 0;
+  mutable std::optional<Metric> qi_metric_;
+  mutable Eigen::Matrix3d qi_;
   Statistics stats_;
 };
 

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace CGAL {
@@ -88,11 +89,70 @@ bool triangles_meet_beyond_shared(const Tri& t, const Tri& g, const std::vector<
     ++ti;
   while(!g_shared[gi])
     ++gi;
+  {
+    // cheap separations first: if the far edge of one triangle lies strictly
+    // on one side of the other's plane, they meet in the shared vertex only
+    auto orientation = traits.orientation_3_object();
+    const auto& v = pts[t[ti]];
+    const auto& a = pts[t[(ti + 1) % 3]];
+    const auto& b = pts[t[(ti + 2) % 3]];
+    const auto& c = pts[g[(gi + 1) % 3]];
+    const auto& d = pts[g[(gi + 2) % 3]];
+    const CGAL::Orientation oc = orientation(v, a, b, c);
+    if(oc != CGAL::COPLANAR && oc == orientation(v, a, b, d))
+      return false;
+    const CGAL::Orientation oa = orientation(v, c, d, a);
+    if(oa != CGAL::COPLANAR && oa == orientation(v, c, d, b))
+      return false;
+  }
   const Segment_3 t_opposite(pts[t[(ti + 1) % 3]], pts[t[(ti + 2) % 3]]);
   const Segment_3 g_opposite(pts[g[(gi + 1) % 3]], pts[g[(gi + 2) % 3]]);
   return do_intersect(t_opposite, Triangle_3(pts[g[0]], pts[g[1]], pts[g[2]])) ||
          do_intersect(g_opposite, Triangle_3(pts[t[0]], pts[t[1]], pts[t[2]]));
 }
+
+/// The side of the plane through a, b, c on which points lie, decided in
+/// double precision when the rounding error bound allows (Shewchuk's
+/// orient3d bound with a safety factor, from differences to `a` and the
+/// precomputed cofactors), `COPLANAR` meaning "undecided: ask the exact
+/// predicate". Saves the repeated set-up when many points are tested
+/// against one plane.
+class Plane_side_filter {
+public:
+  template <typename Point>
+  Plane_side_filter(const Point& a, const Point& b, const Point& c)
+      : ax_(a.x()), ay_(a.y()), az_(a.z())
+  {
+    const double bx = b.x() - ax_, by = b.y() - ay_, bz = b.z() - az_;
+    const double cx = c.x() - ax_, cy = c.y() - ay_, cz = c.z() - az_;
+    nx_ = by * cz - bz * cy;
+    ny_ = bz * cx - bx * cz;
+    nz_ = bx * cy - by * cx;
+    px_ = std::abs(by * cz) + std::abs(bz * cy);
+    py_ = std::abs(bz * cx) + std::abs(bx * cz);
+    pz_ = std::abs(bx * cy) + std::abs(by * cx);
+  }
+  template <typename Point>
+  CGAL::Orientation operator()(const Point& q) const
+  {
+    const double qx = q.x() - ax_, qy = q.y() - ay_, qz = q.z() - az_;
+    const double det = qx * nx_ + qy * ny_ + qz * nz_;
+    const double permanent = std::abs(qx) * px_ + std::abs(qy) * py_ + std::abs(qz) * pz_;
+    // (7 + 56 eps) eps is the bound; 4x that, and no decision near underflow
+    constexpr double eps = 1.1102230246251565e-16;
+    const double bound = 4 * (7 + 56 * eps) * eps * permanent;
+    if(!(permanent > 1e-250) || !(permanent < 1e250))
+      return CGAL::COPLANAR;
+    if(det > bound)
+      return CGAL::POSITIVE;
+    if(det < -bound)
+      return CGAL::NEGATIVE;
+    return CGAL::COPLANAR;
+  }
+
+private:
+  double ax_, ay_, az_, nx_, ny_, nz_, px_, py_, pz_;
+};
 
 /// Whether `q` lies in the closed, positively oriented tet `t`.
 template <typename Traits>
