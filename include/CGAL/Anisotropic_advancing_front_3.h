@@ -508,12 +508,14 @@ private:
         partner[i] = it->second;
       }
     }
-    const Tetrahedron tet{{f[0], f[1], f[2], p}};
     const Box b = box_of({f[0], f[1], f[2], p});
     bool ok = true;
     std::array<Box, 3> nb;
     for(int i = 0; i < 3; ++i)
       nb[i] = box_of({nf[i][0], nf[i][1], nf[i][2]});
+    const std::array<F::Plane_side_filter, 3> planes{{F::Plane_side_filter(pts_[nf[0][0]], pts_[nf[0][1]], pts_[nf[0][2]]),
+                                                      F::Plane_side_filter(pts_[nf[1][0]], pts_[nf[1][1]], pts_[nf[1][2]]),
+                                                      F::Plane_side_filter(pts_[nf[2][0]], pts_[nf[2][1]], pts_[nf[2][2]])}};
     faces_grid_.query(b, [&](int gid) {
       if(!ok || gid == fid || !faces_[gid].alive)
         return;
@@ -522,7 +524,8 @@ private:
       if(!b.meets(gb))
         return;
       for(int i = 0; i < 3 && ok; ++i)
-        if(gid != partner[i] && nb[i].meets(gb) && F::triangles_meet_beyond_shared(nf[i], g, pts_, traits_))
+        if(gid != partner[i] && nb[i].meets(gb) &&
+           F::triangles_meet_beyond_shared(nf[i], g, pts_, traits_, &planes[i]))
           ok = false;
     });
     if(!ok)
@@ -532,8 +535,18 @@ private:
     nodes_.query(b, [&](int q) {
       if(!ok || q == f[0] || q == f[1] || q == f[2] || q == p || !is_alive_node(q))
         return;
-      if(F::in_closed_tet(pts_[q], tet, pts_, traits_))
-        ok = false;
+      // in the closed tet unless strictly outside one of its faces: the three
+      // new faces and f (whose outside is where the meshed volume is)
+      auto outside = [&](const F::Plane_side_filter& plane, const Triangle& face) {
+        const CGAL::Orientation o = plane(pts_[q]);
+        if(o != CGAL::COPLANAR)
+          return o == CGAL::POSITIVE;
+        return traits_.orientation_3_object()(pts_[face[0]], pts_[face[1]], pts_[face[2]], pts_[q]) == CGAL::POSITIVE;
+      };
+      if(outside(planes[0], nf[0]) || outside(planes[1], nf[1]) || outside(planes[2], nf[2]) ||
+         traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[q]) == CGAL::NEGATIVE)
+        return;
+      ok = false;
     });
     return ok;
   }

@@ -40,77 +40,6 @@ inline bool same_orientation(const Tri& a, const Tri& b)
   return false;
 }
 
-/// Whether triangles `t` and `g` (vertex ids into `pts`) meet anywhere but in
-/// the vertices and the edge they share. Two triangles with the same vertex
-/// set are not tested here (the caller decides by orientation).
-/// Shared edge uv: only coplanar triangles on the same side of uv overlap.
-/// Shared vertex v: the triangles meet beyond v iff the edge of one opposite
-/// v meets the other triangle (the contact set is a segment from v; its far
-/// end lies on one of these two edges, whatever the configuration).
-template <typename Traits>
-bool triangles_meet_beyond_shared(const Tri& t, const Tri& g, const std::vector<typename Traits::Point_3>& pts,
-                                  const Traits& traits)
-{
-  typedef typename Traits::Segment_3 Segment_3;
-  typedef typename Traits::Triangle_3 Triangle_3;
-  int shared = 0;
-  std::array<bool, 3> t_shared{{false, false, false}}, g_shared{{false, false, false}};
-  for(int i = 0; i < 3; ++i)
-    for(int j = 0; j < 3; ++j)
-      if(t[i] == g[j]) {
-        ++shared;
-        t_shared[i] = true;
-        g_shared[j] = true;
-      }
-  auto do_intersect = traits.do_intersect_3_object();
-  if(shared == 0)
-    return do_intersect(Triangle_3(pts[t[0]], pts[t[1]], pts[t[2]]), Triangle_3(pts[g[0]], pts[g[1]], pts[g[2]]));
-  if(shared == 3)
-    return false;
-  if(shared == 2) {
-    int u = -1, v = -1, x = -1, y = -1;
-    for(int i = 0; i < 3; ++i) {
-      if(!t_shared[i])
-        x = t[i];
-      else if(u < 0)
-        u = t[i];
-      else
-        v = t[i];
-      if(!g_shared[i])
-        y = g[i];
-    }
-    if(traits.orientation_3_object()(pts[u], pts[v], pts[x], pts[y]) != CGAL::COPLANAR)
-      return false;
-    return traits.coplanar_orientation_3_object()(pts[u], pts[v], pts[x], pts[y]) != CGAL::NEGATIVE;
-  }
-  // one shared vertex
-  int ti = 0, gi = 0;
-  while(!t_shared[ti])
-    ++ti;
-  while(!g_shared[gi])
-    ++gi;
-  {
-    // cheap separations first: if the far edge of one triangle lies strictly
-    // on one side of the other's plane, they meet in the shared vertex only
-    auto orientation = traits.orientation_3_object();
-    const auto& v = pts[t[ti]];
-    const auto& a = pts[t[(ti + 1) % 3]];
-    const auto& b = pts[t[(ti + 2) % 3]];
-    const auto& c = pts[g[(gi + 1) % 3]];
-    const auto& d = pts[g[(gi + 2) % 3]];
-    const CGAL::Orientation oc = orientation(v, a, b, c);
-    if(oc != CGAL::COPLANAR && oc == orientation(v, a, b, d))
-      return false;
-    const CGAL::Orientation oa = orientation(v, c, d, a);
-    if(oa != CGAL::COPLANAR && oa == orientation(v, c, d, b))
-      return false;
-  }
-  const Segment_3 t_opposite(pts[t[(ti + 1) % 3]], pts[t[(ti + 2) % 3]]);
-  const Segment_3 g_opposite(pts[g[(gi + 1) % 3]], pts[g[(gi + 2) % 3]]);
-  return do_intersect(t_opposite, Triangle_3(pts[g[0]], pts[g[1]], pts[g[2]])) ||
-         do_intersect(g_opposite, Triangle_3(pts[t[0]], pts[t[1]], pts[t[2]]));
-}
-
 /// The side of the plane through a, b, c on which points lie, decided in
 /// double precision when the rounding error bound allows (Shewchuk's
 /// orient3d bound with a safety factor, from differences to `a` and the
@@ -153,6 +82,87 @@ public:
 private:
   double ax_, ay_, az_, nx_, ny_, nz_, px_, py_, pz_;
 };
+
+/// Whether triangles `t` and `g` (vertex ids into `pts`) meet anywhere but in
+/// the vertices and the edge they share. Two triangles with the same vertex
+/// set are not tested here (the caller decides by orientation).
+/// Shared edge uv: only coplanar triangles on the same side of uv overlap.
+/// Shared vertex v: the triangles meet beyond v iff the edge of one opposite
+/// v meets the other triangle (the contact set is a segment from v; its far
+/// end lies on one of these two edges, whatever the configuration).
+/// `t_plane`, if given, is the `Plane_side_filter` of t's vertices in t's
+/// order; it only saves time.
+template <typename Traits>
+bool triangles_meet_beyond_shared(const Tri& t, const Tri& g, const std::vector<typename Traits::Point_3>& pts,
+                                  const Traits& traits, const Plane_side_filter* t_plane = nullptr)
+{
+  typedef typename Traits::Segment_3 Segment_3;
+  typedef typename Traits::Triangle_3 Triangle_3;
+  int shared = 0;
+  std::array<bool, 3> t_shared{{false, false, false}}, g_shared{{false, false, false}};
+  for(int i = 0; i < 3; ++i)
+    for(int j = 0; j < 3; ++j)
+      if(t[i] == g[j]) {
+        ++shared;
+        t_shared[i] = true;
+        g_shared[j] = true;
+      }
+  auto do_intersect = traits.do_intersect_3_object();
+  if(shared == 0)
+    return do_intersect(Triangle_3(pts[t[0]], pts[t[1]], pts[t[2]]), Triangle_3(pts[g[0]], pts[g[1]], pts[g[2]]));
+  if(shared == 3)
+    return false;
+  if(shared == 2) {
+    int u = -1, v = -1, x = -1, y = -1;
+    for(int i = 0; i < 3; ++i) {
+      if(!t_shared[i])
+        x = t[i];
+      else if(u < 0)
+        u = t[i];
+      else
+        v = t[i];
+      if(!g_shared[i])
+        y = g[i];
+    }
+    // only "coplanar or not" matters here, so t's plane in any vertex order will do
+    if(t_plane != nullptr && (*t_plane)(pts[y]) != CGAL::COPLANAR)
+      return false;
+    if(traits.orientation_3_object()(pts[u], pts[v], pts[x], pts[y]) != CGAL::COPLANAR)
+      return false;
+    return traits.coplanar_orientation_3_object()(pts[u], pts[v], pts[x], pts[y]) != CGAL::NEGATIVE;
+  }
+  // one shared vertex
+  int ti = 0, gi = 0;
+  while(!t_shared[ti])
+    ++ti;
+  while(!g_shared[gi])
+    ++gi;
+  {
+    // cheap separations first: if the far edge of one triangle lies strictly
+    // on one side of the other's plane, they meet in the shared vertex only
+    auto orientation = traits.orientation_3_object();
+    const auto& v = pts[t[ti]];
+    const auto& a = pts[t[(ti + 1) % 3]];
+    const auto& b = pts[t[(ti + 2) % 3]];
+    const auto& c = pts[g[(gi + 1) % 3]];
+    const auto& d = pts[g[(gi + 2) % 3]];
+    // (v, a, b) is a rotation of t: its plane filter gives the same signs
+    auto side_of_t = [&](const typename Traits::Point_3& q) {
+      const CGAL::Orientation quick = t_plane != nullptr ? (*t_plane)(q) : CGAL::COPLANAR;
+      return quick != CGAL::COPLANAR ? quick : orientation(v, a, b, q);
+    };
+    const CGAL::Orientation oc = side_of_t(c);
+    if(oc != CGAL::COPLANAR && oc == side_of_t(d))
+      return false;
+    const CGAL::Orientation oa = orientation(v, c, d, a);
+    if(oa != CGAL::COPLANAR && oa == orientation(v, c, d, b))
+      return false;
+  }
+  const Segment_3 t_opposite(pts[t[(ti + 1) % 3]], pts[t[(ti + 2) % 3]]);
+  const Segment_3 g_opposite(pts[g[(gi + 1) % 3]], pts[g[(gi + 2) % 3]]);
+  return do_intersect(t_opposite, Triangle_3(pts[g[0]], pts[g[1]], pts[g[2]])) ||
+         do_intersect(g_opposite, Triangle_3(pts[t[0]], pts[t[1]], pts[t[2]]));
+}
 
 /// Whether `q` lies in the closed, positively oriented tet `t`.
 template <typename Traits>
