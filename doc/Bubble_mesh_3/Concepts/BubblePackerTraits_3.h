@@ -31,6 +31,10 @@ public:
   /// Functor: `double operator()(double a, double b) const`, the normalized
   /// distance `w = l / l0` from the metric lengths `a = |d|_{M_i}` and
   /// `b = |d|_{M_j}` of the segment `d` between the two centres.
+  /// Note: the packer's force direction is the gradient of the pair energy
+  /// for the default, `w = 2ab / (a + b)` (the harmonic mean); a model that
+  /// changes this function gets the magnitude from it but that gradient
+  /// direction, which is only consistent for the default.
   typedef unspecified_type Compute_normalized_distance;
 
   /// Functor: `template <class V> V operator()(const V& previous_displacement,
