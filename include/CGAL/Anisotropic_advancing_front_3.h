@@ -34,6 +34,27 @@
 #include <vector>
 
 namespace CGAL {
+namespace Bubble_mesh_3 {
+
+/// \ingroup PkgBubbleMesh3Classes
+/// How `Anisotropic_advancing_front_3` made its tets.
+struct Advancing_front_statistics {
+  std::size_t delaunay_tets = 0;      ///< tets from the modified Delaunay choice
+  std::size_t best_quality_tets = 0;  ///< tets from the best-quality fallback
+  std::size_t undo_rounds = 0;
+  std::size_t undone_tets = 0;
+  std::size_t search_tets = 0;        ///< tets placed by the search in undone cavities (count may include retried ones)
+  std::size_t cavities = 0;           ///< cavities left after the undo rounds
+  std::size_t vertex_star_fills = 0;  ///< cavities closed from one of their vertices
+  std::size_t steiner_star_fills = 0; ///< cavities closed from one Steiner point
+  std::size_t tetgen_fills = 0;       ///< cavities closed by TetGen
+  std::size_t steiner_points = 0;
+  std::size_t cavity_tets = 0;        ///< tets created by the cavity fillers
+  std::size_t unused_nodes = 0;       ///< nodes no tet uses (outside the boundary)
+  double seconds = 0;
+};
+
+} // namespace Bubble_mesh_3
 
 /// \ingroup PkgBubbleMesh3Classes
 ///
@@ -101,21 +122,8 @@ public:
     std::size_t progress_interval = 100000;
   };
 
-  struct Statistics {
-    std::size_t delaunay_tets = 0;      ///< tets from the modified Delaunay choice
-    std::size_t best_quality_tets = 0;  ///< tets from the best-quality fallback
-    std::size_t undo_rounds = 0;
-    std::size_t undone_tets = 0;
-    std::size_t search_tets = 0;        ///< tets placed by the search in undone cavities (count may include retried ones)
-    std::size_t cavities = 0;           ///< cavities left after the undo rounds
-    std::size_t vertex_star_fills = 0;  ///< cavities closed from one of their vertices
-    std::size_t steiner_star_fills = 0; ///< cavities closed from one Steiner point
-    std::size_t tetgen_fills = 0;       ///< cavities closed by TetGen
-    std::size_t steiner_points = 0;
-    std::size_t cavity_tets = 0;        ///< tets created by the cavity fillers
-    std::size_t unused_nodes = 0;       ///< nodes no tet uses (outside the boundary)
-    double seconds = 0;
-  };
+  /// how the tets were made (`Bubble_mesh_3::Advancing_front_statistics`)
+  typedef Bubble_mesh_3::Advancing_front_statistics Statistics;
 
   /// The mesh: the input points followed by the Steiner points, and the
   /// positively oriented tets.

@@ -68,8 +68,7 @@ struct Meshing_report {
   double boundary_seconds = 0;
   std::size_t tets = 0; ///< made by the front (the final count: `final_tets`)
   std::size_t final_tets = 0;
-  std::size_t delaunay_tets = 0, best_quality_tets = 0, undo_rounds = 0, undone_tets = 0, search_tets = 0;
-  std::size_t cavities = 0, cavity_tets = 0, steiner_points = 0, unused_nodes = 0;
+  Advancing_front_statistics front; ///< how the front made them (recoveries, Steiner points)
   /// interior nodes not used: outside the boundary front (between a chord
   /// and a curved wall), or within metric distance 0.25 of it
   std::size_t dropped_outside = 0, dropped_near_boundary = 0;
@@ -103,11 +102,11 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"packing_seconds\": " << arr(r.packing_seconds) << ",\n    \"packing_iterations\": "
     << arr(r.packing_iterations) << ",\n    \"packing_converged\": " << conv
     << ",\n    \"boundary_triangles\": " << r.boundary_triangles << ",\n    \"boundary_seconds\": "
-    << num(r.boundary_seconds) << ",\n    \"tets\": " << r.tets << ",\n    \"delaunay_tets\": " << r.delaunay_tets
-    << ",\n    \"best_quality_tets\": " << r.best_quality_tets << ",\n    \"undo_rounds\": " << r.undo_rounds
-    << ",\n    \"undone_tets\": " << r.undone_tets << ",\n    \"search_tets\": " << r.search_tets
-    << ",\n    \"cavities\": " << r.cavities << ",\n    \"cavity_tets\": " << r.cavity_tets
-    << ",\n    \"steiner_points\": " << r.steiner_points << ",\n    \"dropped_interior_nodes_outside\": "
+    << num(r.boundary_seconds) << ",\n    \"tets\": " << r.tets << ",\n    \"delaunay_tets\": " << r.front.delaunay_tets
+    << ",\n    \"best_quality_tets\": " << r.front.best_quality_tets << ",\n    \"undo_rounds\": " << r.front.undo_rounds
+    << ",\n    \"undone_tets\": " << r.front.undone_tets << ",\n    \"search_tets\": " << r.front.search_tets
+    << ",\n    \"cavities\": " << r.front.cavities << ",\n    \"cavity_tets\": " << r.front.cavity_tets
+    << ",\n    \"steiner_points\": " << r.front.steiner_points << ",\n    \"dropped_interior_nodes_outside\": "
     << r.dropped_outside << ",\n    \"dropped_interior_nodes_near_boundary\": " << r.dropped_near_boundary << ",\n    \"front_seconds\": " << num(r.front_seconds)
     << ",\n    \"final_tets\": " << r.final_tets << ",\n    \"improved\": " << (r.improved ? "true" : "false") << ",\n    \"improvement\": {\"worst_before\": "
     << num(r.improvement.worst_before) << ", \"worst_after\": " << num(r.improvement.worst_after)
@@ -138,9 +137,9 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
                                                : ", iteration cap reached")
     << ")\n";
   o << "boundary: " << r.boundary_triangles << " triangles, " << r.boundary_seconds << " s\n";
-  o << "front:    " << r.tets << " tets, " << r.front_seconds << " s (modified Delaunay " << r.delaunay_tets
-    << ", best quality " << r.best_quality_tets << ", undo rounds " << r.undo_rounds << ", cavities " << r.cavities
-    << ", Steiner points " << r.steiner_points << ")\n";
+  o << "front:    " << r.tets << " tets, " << r.front_seconds << " s (modified Delaunay " << r.front.delaunay_tets
+    << ", best quality " << r.front.best_quality_tets << ", undo rounds " << r.front.undo_rounds << ", cavities " << r.front.cavities
+    << ", Steiner points " << r.front.steiner_points << ")\n";
   if(r.dropped_outside + r.dropped_near_boundary > 0)
     o << "dropped:  " << r.dropped_outside << " interior nodes outside the boundary front, "
       << r.dropped_near_boundary << " too close to it\n";
@@ -385,15 +384,7 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   rep.front_seconds = seconds_since(t0);
   const auto& fs = r.statistics;
   rep.tets = r.tets.size();
-  rep.delaunay_tets = fs.delaunay_tets;
-  rep.best_quality_tets = fs.best_quality_tets;
-  rep.undo_rounds = fs.undo_rounds;
-  rep.undone_tets = fs.undone_tets;
-  rep.search_tets = fs.search_tets;
-  rep.cavities = fs.cavities;
-  rep.cavity_tets = fs.cavity_tets;
-  rep.steiner_points = fs.steiner_points;
-  rep.unused_nodes = fs.unused_nodes;
+  rep.front = fs;
   say("advancing front: " + std::to_string(r.tets.size()) + " tets, " + std::to_string(rep.front_seconds) + " s");
   for(std::size_t i = points.size(); i < r.points.size(); ++i) {
     const auto& p = r.points[i];

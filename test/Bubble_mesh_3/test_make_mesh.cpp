@@ -200,7 +200,7 @@ Outcome mesh_indexed(const std::string& off, const Field& field, double volume, 
     BM::print_validity_summary(std::cerr, o.validity);
   // exactly the packed nodes plus the reported Steiner points, all used
   const auto& r = o.report;
-  EXPECT_EQ(o.mesh.points.size(), r.nodes[0] + r.nodes[1] + r.nodes[2] + r.nodes[3] + r.steiner_points -
+  EXPECT_EQ(o.mesh.points.size(), r.nodes[0] + r.nodes[1] + r.nodes[2] + r.nodes[3] + r.front.steiner_points -
                                       r.dropped_outside - r.dropped_near_boundary);
   EXPECT_EQ(o.validity.unused_vertices, 0u);
   return o;
@@ -210,8 +210,8 @@ void print(const char* name, const Outcome& o, const BM::Quality_report& q)
 {
   const auto& r = o.report;
   std::cout << name << ": nodes " << r.nodes[0] << "/" << r.nodes[1] << "/" << r.nodes[2] << "/" << r.nodes[3]
-            << ", tets " << r.final_tets << " (front " << r.tets << ", delaunay " << r.delaunay_tets << ", best quality " << r.best_quality_tets
-            << ", undo rounds " << r.undo_rounds << ", cavities " << r.cavities << ", steiner " << r.steiner_points
+            << ", tets " << r.final_tets << " (front " << r.tets << ", delaunay " << r.front.delaunay_tets << ", best quality " << r.front.best_quality_tets
+            << ", undo rounds " << r.front.undo_rounds << ", cavities " << r.front.cavities << ", steiner " << r.front.steiner_points
             << ", dropped " << r.dropped_outside << "+" << r.dropped_near_boundary << "), metric min dihedral worst " << q.min_dihedral.worst << " p01 " << q.min_dihedral.p01 << " mean "
             << q.min_dihedral.mean << ", edges in range " << q.edge_length.in_range_fraction << ", times pack "
             << r.packing_seconds[0] + r.packing_seconds[1] + r.packing_seconds[2] + r.packing_seconds[3]
@@ -223,7 +223,7 @@ TEST(MakeMesh, CubeIdentity)
   CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.25));
   const Outcome o = mesh_indexed(box_off(1, 1, 1), field, 1.0);
   EXPECT_TRUE(o.validity.is_valid());
-  EXPECT_EQ(o.report.unused_nodes, 0u);
+  EXPECT_EQ(o.report.front.unused_nodes, 0u);
   EXPECT_EQ(o.mesh.corners.size(), 8u);
   std::set<int> patches(o.mesh.triangle_refs.begin(), o.mesh.triangle_refs.end());
   EXPECT_EQ(patches.size(), 6u);
@@ -327,7 +327,7 @@ TEST(MakeMesh, WithoutImprovementTheFrontsMeshIsReturned)
   EXPECT_FALSE(rep.improved);
   EXPECT_EQ(m.tets.size(), rep.tets);
   EXPECT_EQ(rep.final_tets, rep.tets);
-  EXPECT_EQ(rep.tets, rep.delaunay_tets + rep.best_quality_tets + rep.search_tets + rep.cavity_tets);
+  EXPECT_EQ(rep.tets, rep.front.delaunay_tets + rep.front.best_quality_tets + rep.front.search_tets + rep.front.cavity_tets);
 }
 
 TEST(MakeMesh, SameMeshWithOneAndTwoThreads)

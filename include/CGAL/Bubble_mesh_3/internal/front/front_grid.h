@@ -54,6 +54,16 @@ struct Box {
   }
 };
 
+/// the cell index of the scaled coordinate x in [0, n), NaN-safe
+inline std::int64_t clamp_cell(double x, std::int64_t n)
+{
+  if(!(x > 0))
+    return 0;
+  if(x >= double(n - 1))
+    return n - 1;
+  return std::int64_t(x);
+}
+
 /// Static grid over points, flat (cells in one array, ids sorted by cell);
 /// `query(box, f)` calls f(id) for every point in the box.
 class Point_grid {
@@ -120,14 +130,7 @@ public:
   }
 
 private:
-  std::int64_t clamp(int k, double x) const
-  {
-    if(!(x > 0))
-      return 0;
-    if(x >= double(n_[k] - 1))
-      return n_[k] - 1;
-    return std::int64_t(x);
-  }
+  std::int64_t clamp(int k, double x) const { return clamp_cell(x, n_[k]); }
   std::size_t index(const std::array<double, 3>& p) const
   {
     return std::size_t(clamp(0, (p[0] - lo_[0]) * inv_) +
@@ -194,14 +197,7 @@ public:
   }
 
 private:
-  std::int64_t clamp(int k, double x) const
-  {
-    if(!(x > 0))
-      return 0;
-    if(x >= double(n_[k] - 1))
-      return n_[k] - 1;
-    return std::int64_t(x);
-  }
+  std::int64_t clamp(int k, double x) const { return clamp_cell(x, n_[k]); }
   template <typename F>
   void for_cells(const Box& b, F f)
   {
