@@ -108,8 +108,19 @@ bool triangles_meet_beyond_shared(const Tri& t, const Tri& g, const std::vector<
         g_shared[j] = true;
       }
   auto do_intersect = traits.do_intersect_3_object();
-  if(shared == 0)
+  if(shared == 0) {
+    // separated when one triangle lies strictly on one side of the other's
+    // plane (filtered in double; undecided cases go to the exact test)
+    auto strictly_one_side = [&](const Plane_side_filter& plane, const Tri& u) {
+      const CGAL::Orientation o = plane(pts[u[0]]);
+      return o != CGAL::COPLANAR && plane(pts[u[1]]) == o && plane(pts[u[2]]) == o;
+    };
+    if(t_plane != nullptr && strictly_one_side(*t_plane, g))
+      return false;
+    if(strictly_one_side(Plane_side_filter(pts[g[0]], pts[g[1]], pts[g[2]]), t))
+      return false;
     return do_intersect(Triangle_3(pts[t[0]], pts[t[1]], pts[t[2]]), Triangle_3(pts[g[0]], pts[g[1]], pts[g[2]]));
+  }
   if(shared == 3)
     return false;
   if(shared == 2) {
@@ -154,8 +165,14 @@ bool triangles_meet_beyond_shared(const Tri& t, const Tri& g, const std::vector<
     const CGAL::Orientation oc = side_of_t(c);
     if(oc != CGAL::COPLANAR && oc == side_of_t(d))
       return false;
-    const CGAL::Orientation oa = orientation(v, c, d, a);
-    if(oa != CGAL::COPLANAR && oa == orientation(v, c, d, b))
+    // (v, c, d) is a rotation of g
+    const Plane_side_filter g_plane(v, c, d);
+    auto side_of_g = [&](const typename Traits::Point_3& q) {
+      const CGAL::Orientation quick = g_plane(q);
+      return quick != CGAL::COPLANAR ? quick : orientation(v, c, d, q);
+    };
+    const CGAL::Orientation oa = side_of_g(a);
+    if(oa != CGAL::COPLANAR && oa == side_of_g(b))
       return false;
   }
   const Segment_3 t_opposite(pts[t[(ti + 1) % 3]], pts[t[(ti + 2) % 3]]);

@@ -104,6 +104,9 @@ public:
     for(std::size_t i = 0; i < points.size(); ++i)
       ids_[fill[cell_of_point[i]]++] = static_cast<int>(i);
   }
+  /// the point ids sorted by cell (ties by id)
+  const std::vector<int>& ids_in_cell_order() const { return ids_; }
+
   template <typename F>
   void query(const Box& b, F f) const
   {
