@@ -1,7 +1,8 @@
 // bubble_mesh_3: the command-line front end of the Bubble_mesh_3 package.
 //
 // Exit codes: 0 success, 2 invalid input or usage (one line on stderr),
-// 3 internal failure.
+// 3 meshing or internal failure, 4 --time-limit reached, 130 interrupted
+// (SIGINT). Only 0 leaves a mesh; files are written atomically.
 #include <CGAL/Bubble_mesh_3/IO/cross_section_svg.h>
 #include <CGAL/Bubble_mesh_3/IO/medit.h>
 #include <CGAL/Bubble_mesh_3/IO/read_triangle_surface.h>
@@ -27,11 +28,13 @@
 #include <iomanip>
 
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -46,6 +49,17 @@ using CGAL::Bubble_mesh_3::Invalid_input;
 using CGAL::Bubble_mesh_3::Metric_3;
 namespace BIO = CGAL::Bubble_mesh_3::IO;
 
+// SIGINT sets a flag that the mesher polls at its check points (it then
+// throws Interrupted and nothing is written); a second SIGINT kills at once.
+volatile std::sig_atomic_t interrupt_requested = 0;
+extern "C" void on_sigint(int)
+{
+  interrupt_requested = 1;
+  std::signal(SIGINT, SIG_DFL);
+}
+const int exit_time_limit = 4;
+const int exit_interrupted = 130;
+
 const char* const usage_text =
     "bubble_mesh_3 - anisotropic tetrahedral meshing by ellipsoidal bubble packing\n"
     "\n"
@@ -53,7 +67,7 @@ const char* const usage_text =
     "  bubble_mesh_3 SURFACE -o OUT.mesh [METRIC] [--vtu OUT.vtu] [--feature-angle DEG]\n"
     "                [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
     "                [--max-nodes N] [--section S.svg [--section-plane x|y|z=VALUE]]\n"
-    "                [--no-improve] [--quiet]\n"
+    "                [--time-limit SECONDS] [--no-improve] [--quiet]\n"
     "      Mesh the volume inside a closed triangle surface (OFF, OBJ, STL, PLY):\n"
     "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
     "      at more than DEG degrees from flat, default 60), surface patches and the\n"
@@ -63,8 +77,13 @@ const char* const usage_text =
     "      METRIC the size is 1/20 of the bounding box diagonal. The mesh (MEDIT,\n"
     "      with boundary patches, feature edges and corners) is written only when\n"
     "      it is complete and valid. --max-nodes refuses larger node estimates\n"
-    "      (default 5e7). --section draws the tets cut by a plane (default: y through\n"
-    "      the centre of the bounding box) coloured by metric quality.\n"
+    "      before any work (default 5e6, about 13 GB). --time-limit stops the run\n"
+    "      (exit 4, no file) when it is reached before the front is done; the\n"
+    "      improvement is cut to the time left instead. Ctrl-C (SIGINT) stops it\n"
+    "      at the next check point (exit 130, no file). Input checks: see\n"
+    "      doc/Bubble_mesh_3/input_checks.md. --section draws the tets cut by a\n"
+    "      plane (default: y through the centre of the bounding box) coloured by\n"
+    "      metric quality.\n"
     "      Exit 3 when no valid mesh could be made.\n"
     "  bubble_mesh_3 eval MESH.mesh [METRIC] [--report R.json] [--vtu OUT.vtu]\n"
     "                [--histogram H.svg] [--title TEXT] [--quiet] [--require-valid]\n"
@@ -97,7 +116,8 @@ const char* const usage_text =
     "Quality is the minimum dihedral angle of each tet after mapping it by Q,\n"
     "M(centroid) = Q^T Q. Edge lengths are in the metric; the target is 1.\n"
     "\n"
-    "Exit codes: 0 success, 2 invalid input or usage, 3 meshing or internal failure.\n";
+    "Exit codes: 0 success, 2 invalid input or usage, 3 meshing or internal failure,\n"
+    "4 time limit reached, 130 interrupted (SIGINT).\n";
 
 // Usage errors are invalid input too: one line, exit 2.
 struct Usage_error : Invalid_input {
@@ -221,6 +241,8 @@ public:
         throw Usage_error("--metric-mesh and --metric-sol go together");
       m.interpolated_.emplace(
           CGAL::Interpolated_metric_field_3<K>::from_files(o.get("--metric-mesh"), o.get("--metric-sol")));
+      if(surface != nullptr)
+        m.note_ = coverage_note(*m.interpolated_, *surface, o.get("--metric-mesh"));
       m.description_ = "interpolated from " + file_name(o.get("--metric-mesh")) + " + " +
                        file_name(o.get("--metric-sol"));
     } else if(default_size > 0) {
@@ -245,13 +267,35 @@ public:
   }
 
   const std::string& description() const { return description_; }
+  /// a warning for the progress output (empty if none)
+  const std::string& note() const { return note_; }
 
 private:
+  // Outside the background mesh the nearest vertex's metric is used (the
+  // field is extended); say how much of the surface that concerns, and
+  // refuse a background mesh that misses the domain altogether.
+  static std::string coverage_note(const CGAL::Interpolated_metric_field_3<K>& field,
+                                   const CGAL::Surface_mesh<K::Point_3>& surface, const std::string& path)
+  {
+    const CGAL::Bbox_3 bg = field.bbox();
+    const CGAL::Bbox_3 domain = CGAL::Polygon_mesh_processing::bbox(surface);
+    if(!CGAL::do_overlap(bg, domain))
+      throw Invalid_input(path + ": the background mesh does not overlap the domain (its bounding box is disjoint "
+                                 "from the surface's)");
+    const std::size_t outside = field.number_of_points_outside(surface.points());
+    if(outside == 0)
+      return std::string();
+    return "warning: " + std::to_string(outside) + " of " + std::to_string(surface.number_of_vertices()) +
+           " surface vertices lie outside the background mesh " + file_name(path) +
+           "; the metric of the nearest background vertex is used there";
+  }
+
   CGAL::Constant_metric_field_3<K> constant_;
   std::optional<CGAL::Interpolated_metric_field_3<K>> interpolated_;
   typedef std::function<Metric_3(const K::Point_3&)> Function;
   std::optional<CGAL::Function_metric_field_3<K, Function>> function_;
   std::string description_;
+  std::string note_;
 };
 
 bool ends_with(const std::string& s, const std::string& suffix)
@@ -337,7 +381,8 @@ int run_mesh(int argc, char** argv)
   const Options o = parse_options(argc, argv, 1,
                                   {"-o", "--vtu", "--size", "--metric-const", "--metric-mesh", "--metric-sol",
                                    "--metric-cylindrical", "--metric-boundary-layer", "--section", "--section-plane",
-                                   "--feature-angle", "--report", "--histogram", "--seed", "--threads", "--max-nodes"},
+                                   "--feature-angle", "--report", "--histogram", "--seed", "--threads", "--max-nodes",
+                                   "--time-limit"},
                                   {"--quiet", "--no-improve"});
   if(o.positional.size() != 1)
     throw Usage_error("give exactly one SURFACE file (see bubble_mesh_3 --help)");
@@ -353,9 +398,14 @@ int run_mesh(int argc, char** argv)
     throw Usage_error("--feature-angle must be between 0 and 180 degrees");
   const unsigned seed = o.has("--seed") ? unsigned(parse_count(o.get("--seed"), "--seed")) : 0u;
   const int threads = o.has("--threads") ? parse_count(o.get("--threads"), "--threads") : 0;
-  const double max_nodes = o.has("--max-nodes") ? parse_number(o.get("--max-nodes"), "--max-nodes") : 5e7;
+  const double max_nodes = o.has("--max-nodes") ? parse_number(o.get("--max-nodes"), "--max-nodes")
+                                                : BM::default_maximum_number_of_nodes;
   if(!(max_nodes > 0))
     throw Usage_error("--max-nodes must be positive");
+  const double time_limit = o.has("--time-limit") ? parse_number(o.get("--time-limit"), "--time-limit")
+                                                  : std::numeric_limits<double>::infinity();
+  if(!(time_limit > 0))
+    throw Usage_error("--time-limit must be a positive number of seconds");
   const bool quiet = o.has("--quiet");
   if(o.has("--section") && !ends_with(o.get("--section"), ".svg"))
     throw Usage_error("--section: '" + o.get("--section") + "' must end in .svg");
@@ -379,18 +429,28 @@ int run_mesh(int argc, char** argv)
   };
 
   const std::string surface_path = o.positional[0];
-  const CGAL::Surface_mesh<K::Point_3> surface = BIO::read_triangle_surface<K>(surface_path);
+  BIO::Surface_check_report checks;
+  const CGAL::Surface_mesh<K::Point_3> surface = BIO::read_triangle_surface<K>(surface_path, &checks);
   Domain::Polyhedron polyhedron;
   CGAL::copy_face_graph(surface, polyhedron);
   const CGAL::Bbox_3 bb = CGAL::Polygon_mesh_processing::bbox(surface);
   const double diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) +
                                     CGAL::square(bb.zmax() - bb.zmin()));
   progress("read " + file_name(surface_path) + ": " + std::to_string(surface.number_of_vertices()) + " vertices, " +
-           std::to_string(surface.number_of_faces()) + " triangles");
+           std::to_string(surface.number_of_faces()) + " triangles, " + std::to_string(checks.components) +
+           (checks.components == 1 ? " component" : " components") +
+           (checks.cavities > 0 ? " (cavities: " + std::to_string(checks.cavities) + ")" : std::string()));
+  if(checks.reoriented_faces)
+    progress("repaired: faces of " + file_name(surface_path) + " reoriented consistently");
+  if(checks.reversed_components > 0)
+    progress("repaired: " + std::to_string(checks.reversed_components) + " component(s) of " +
+             file_name(surface_path) + " reversed (outer boundaries face out, cavities in)");
   Domain domain(polyhedron);
   domain.detect_features(angle);
   const Command_line_metric metric = Command_line_metric::from_options(o, diagonal / 20, &surface);
   progress("metric: " + metric.description());
+  if(!metric.note().empty())
+    progress(metric.note());
 
   BM::Meshing_report meshing;
   Indexed_tet_mesh_3 mesh;
@@ -405,6 +465,8 @@ int run_mesh(int argc, char** argv)
               .maximum_number_of_bubbles(max_nodes)
               .meshing_report(&meshing)
               .mesh_improvement(!o.has("--no-improve"))
+              .time_limit(time_limit)
+              .should_stop(std::function<bool()>([] { return interrupt_requested != 0; }))
               .callback(std::function<void(const std::string&)>(progress)));
       quality = BM::compute_quality_report(mesh, field);
       if(o.has("--vtu") || o.has("--section"))
@@ -414,14 +476,29 @@ int run_mesh(int argc, char** argv)
   } catch(const BM::Meshing_failure& e) {
     std::cerr << "bubble_mesh_3: meshing failed: " << e.what() << "\n";
     return 3;
+  } catch(const BM::Time_limit_exceeded& e) {
+    std::cerr << "bubble_mesh_3: " << e.what() << " (--time-limit); nothing written\n";
+    return exit_time_limit;
+  } catch(const BM::Interrupted& e) {
+    std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT); nothing written\n";
+    return exit_interrupted;
   }
   quality.metric_description = metric.description();
+  // An interrupt after the meshing stops before the next file; the files
+  // already written are complete.
+  auto check_interrupt = [&] {
+    if(interrupt_requested)
+      throw BM::Interrupted("interrupted while writing the outputs");
+  };
+  check_interrupt();
   BIO::write_medit(out, mesh);
   progress("wrote " + out);
+  check_interrupt();
   if(o.has("--vtu")) {
     BIO::write_vtu(o.get("--vtu"), mesh, {{"min_dihedral", per_tet}});
     progress("wrote " + o.get("--vtu"));
   }
+  check_interrupt();
   if(o.has("--section")) {
     const BIO::Section_plane plane =
         section_plane ? *section_plane : BIO::Section_plane{1, 0.5 * (bb.ymin() + bb.ymax())};
@@ -429,6 +506,7 @@ int run_mesh(int argc, char** argv)
                                  file_name(surface_path) + ", " + metric.description());
     progress("wrote " + o.get("--section"));
   }
+  check_interrupt();
   if(o.has("--report")) {
     std::string json = BM::to_json(quality);
     json.insert(json.rfind("\n}"), ",\n  \"meshing\": " + BM::to_json(meshing));
@@ -447,6 +525,7 @@ int run_mesh(int argc, char** argv)
 
 int main(int argc, char** argv)
 {
+  std::signal(SIGINT, on_sigint);
   try {
     if(argc < 2)
       throw Usage_error("missing command (see bubble_mesh_3 --help)");
@@ -469,6 +548,9 @@ int main(int argc, char** argv)
   } catch(const Invalid_input& e) {
     std::cerr << "bubble_mesh_3: error: " << e.what() << "\n";
     return 2;
+  } catch(const CGAL::Bubble_mesh_3::Interrupted& e) {
+    std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT)\n";
+    return exit_interrupted;
   } catch(const std::bad_alloc&) {
     std::cerr << "bubble_mesh_3: error: out of memory\n";
     return 3;

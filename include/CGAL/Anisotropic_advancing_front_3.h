@@ -120,6 +120,10 @@ public:
     /// called every `progress_interval` tets with (tets, front triangles)
     std::function<void(std::size_t, std::size_t)> progress;
     std::size_t progress_interval = 100000;
+    /// asked every 1,000 decisions (also during recoveries, from the calling
+    /// thread); when it returns true, `run()` throws
+    /// `Bubble_mesh_3::Interrupted` (it may also throw itself)
+    std::function<bool()> should_stop;
   };
 
   /// how the tets were made (`Bubble_mesh_3::Advancing_front_statistics`)
@@ -634,11 +638,19 @@ private:
     return ok;
   }
 
+  /// counts decisions and asks `Parameters::should_stop` every 1,000
+  void check_stop()
+  {
+    if(param_.should_stop && ++decisions_ % 1000 == 0 && param_.should_stop())
+      throw Bubble_mesh_3::Interrupted("advancing front: stopped on request");
+  }
+
   // ------------------------------------------------------------ the loop
   bool run_queue()
   {
     bool progress = false;
     while(!queue_.empty()) {
+      check_stop();
       const int fid = queue_.front();
       queue_.pop_front();
       Face& f = faces_[fid];
@@ -694,6 +706,7 @@ private:
     for(int attempt = 0; attempt < 2; ++attempt) {
       int best = -1;
       for(int id : waiting_) {
+        check_stop();
         if(faces_[id].fallback_dirty)
           evaluate_fallback(id);
         if(faces_[id].fallback_node >= 0 &&
@@ -760,6 +773,7 @@ private:
     const std::vector<int> cand = cand_;
     for(int q : cand) {
       --budget_;
+      check_stop();
       if(removable(fid, q))
         ranked.emplace_back(tet_quality(f, q), q);
     }
@@ -948,6 +962,7 @@ private:
   std::vector<int> cand_;
   long alive_faces_ = 0;
   long budget_ = 0;
+  std::size_t decisions_ = 0;
   mutable std::optional<Metric> qi_metric_;
   mutable Eigen::Matrix3d qi_;
   Statistics stats_;

@@ -11,6 +11,7 @@
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 
+#include <CGAL/Bbox_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_3.h>
@@ -50,7 +51,9 @@ namespace CGAL {
 /// - Outside the background mesh, the metric of the nearest background vertex
 ///   (Euclidean distance) is returned. The field is therefore discontinuous
 ///   across the boundary of the background mesh; make the background mesh
-///   cover the domain to mesh. Points within a relative tolerance of `1e-10`
+///   cover the domain to mesh (`number_of_points_outside()` tells how much
+///   of a domain it misses; the command-line tool warns, and refuses a
+///   background mesh whose bounding box misses the domain's). Points within a relative tolerance of `1e-10`
 ///   (in barycentric coordinates) of a tetrahedron count as inside it.
 ///
 /// Point location uses a uniform grid over the bounding box, with about two
@@ -149,6 +152,27 @@ public:
   {
     return data_->nearest_vertex(
       Coordinates{{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}});
+  }
+
+  /// how many of `points` (a range of `Point_3`) lie outside the background
+  /// mesh, where the field takes the metric of the nearest background vertex:
+  /// 0 when the background mesh covers them (e.g. the vertices of a domain's
+  /// surface)
+  template <typename PointRange>
+  std::size_t number_of_points_outside(const PointRange& points) const
+  {
+    std::size_t n = 0;
+    for(const Point_3& p : points)
+      if(locate(p) < 0)
+        ++n;
+    return n;
+  }
+
+  /// the bounding box of the background mesh
+  CGAL::Bbox_3 bbox() const
+  {
+    const Data& d = *data_;
+    return CGAL::Bbox_3(d.low[0], d.low[1], d.low[2], d.high[0], d.high[1], d.high[2]);
   }
 
   std::size_t number_of_vertices() const { return data_->points.size(); }

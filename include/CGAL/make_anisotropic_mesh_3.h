@@ -6,6 +6,7 @@
 #define CGAL_MAKE_ANISOTROPIC_MESH_3_H
 
 #include <CGAL/Anisotropic_advancing_front_3.h>
+#include <CGAL/Bubble_mesh_3/IO/read_triangle_surface.h>
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/improve_mesh.h>
@@ -24,6 +25,7 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Triangulation_3.h>
+#include <CGAL/boost/graph/copy_face_graph.h>
 
 #include <array>
 #include <chrono>
@@ -34,6 +36,8 @@
 #include <ostream>
 #include <sstream>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace CGAL {
@@ -166,7 +170,9 @@ struct Meshing_settings {
   unsigned int seed = 0;
   int threads = 0;
   int iterations = 400;
-  double maximum_bubbles = 5e7;
+  double maximum_bubbles = default_maximum_number_of_nodes;
+  double time_limit = std::numeric_limits<double>::infinity();
+  std::function<bool()> should_stop;
   bool allow_steiner = true;
   bool verbose = false;
   bool improve = true;
@@ -184,7 +190,12 @@ Meshing_settings resolve_settings(const NP& np)
   s.seed = choose_parameter(get_parameter(np, CGAL::internal_np::random_seed), 0u);
   s.threads = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::number_of_threads), 0);
   s.iterations = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 400);
-  s.maximum_bubbles = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::maximum_number_of_bubbles), 5e7);
+  s.maximum_bubbles = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::maximum_number_of_bubbles),
+                                       default_maximum_number_of_nodes);
+  s.time_limit = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::time_limit),
+                                  std::numeric_limits<double>::infinity());
+  s.should_stop = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::should_stop),
+                                   std::function<bool()>());
   s.allow_steiner = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::allow_steiner_points), true);
   s.verbose = choose_parameter(get_parameter(np, CGAL::internal_np::verbose), false);
   s.improve = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::mesh_improvement), true);
@@ -196,6 +207,75 @@ Meshing_settings resolve_settings(const NP& np)
   s.report = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::meshing_report),
                               static_cast<Meshing_report*>(nullptr));
   return s;
+}
+
+/// The check points of a run: throws `Interrupted` once `should_stop` returns
+/// true and `Time_limit_exceeded` once the time limit has passed (the time is
+/// not checked after the improvement, which is cut to the time left instead).
+class Stop_check {
+public:
+  Stop_check(const Meshing_settings& s, std::chrono::steady_clock::time_point start)
+    : limit_(s.time_limit), should_stop_(s.should_stop), start_(start)
+  {}
+  bool active() const { return bool(should_stop_) || limit_ < std::numeric_limits<double>::infinity(); }
+  /// seconds left before the limit (infinite without one)
+  double remaining() const { return limit_ - seconds_since(start_); }
+  void operator()(const std::string& stage, bool check_time = true) const
+  {
+    if(should_stop_ && should_stop_())
+      throw Interrupted("interrupted during " + stage);
+    if(check_time && limit_ < std::numeric_limits<double>::infinity() && remaining() < 0) {
+      std::ostringstream o;
+      o << "time limit of " << limit_ << " s reached during " << stage;
+      throw Time_limit_exceeded(o.str());
+    }
+  }
+
+private:
+  double limit_;
+  std::function<bool()> should_stop_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// A stage's parameters get the check as `should_stop` when they have that
+// member (the packer, front and improver may offer it); the check throws.
+template <typename P, typename = void>
+struct Has_should_stop : std::false_type {};
+template <typename P>
+struct Has_should_stop<P, std::void_t<decltype(std::declval<P&>().should_stop = std::function<bool()>())>>
+    : std::true_type {};
+template <typename P>
+void install_stop_check(P& parameters, const Stop_check& check, const std::string& stage, bool check_time = true)
+{
+  if constexpr(Has_should_stop<P>::value) {
+    if(check.active())
+      parameters.should_stop = [check, stage, check_time]() {
+        check(stage, check_time);
+        return false;
+      };
+  } else {
+    (void)parameters, (void)check, (void)stage, (void)check_time;
+  }
+}
+
+/// Refuses a domain whose boundary cannot be meshed (`check_triangle_surface()`
+/// on all its polyhedra together), before any expensive work.
+template <typename MeshDomain>
+void check_domain_surface(const MeshDomain& domain)
+{
+  typedef typename std::decay_t<decltype(domain.polyhedra().front())>::Traits::Point_3 Point;
+  CGAL::Surface_mesh<Point> sm;
+  for(const auto& poly : domain.polyhedra())
+    CGAL::copy_face_graph(poly, sm);
+  if(num_faces(sm) == 0)
+    throw Invalid_input("domain: the polyhedral surface has no faces");
+  if(!CGAL::is_closed(sm))
+    throw Invalid_input("domain: the surface is not closed");
+  if(!CGAL::is_triangle_mesh(sm))
+    throw Invalid_input("domain: the surface has faces that are not triangles");
+  const std::string problem = IO::check_triangle_surface(sm, false);
+  if(!problem.empty())
+    throw Invalid_input("domain: " + problem);
 }
 
 /// Where each vertex of the domain mesh lies in the domain (for the C3T3).
@@ -220,6 +300,11 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
     if(s.progress)
       s.progress(m);
   };
+  const Stop_check stop(s, t_start);
+
+  // 0. the domain's surface (a bad one would fail only after the packing)
+  check_domain_surface(domain);
+  stop("the input checks");
 
   // 1. packing
   typedef CGAL::Bubble_packer_3<MeshDomain, MetricField> Packer;
@@ -228,9 +313,21 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   pp.number_of_threads = s.threads;
   pp.maximum_iterations = s.iterations;
   pp.maximum_number_of_bubbles = s.maximum_bubbles;
+  install_stop_check(pp, stop, "the packing");
   Packer packer(domain, field, pp);
-  rep.estimated_nodes = packer.estimated_number_of_bubbles();
+  try {
+    rep.estimated_nodes = packer.estimated_number_of_bubbles();
+  } catch(const Invalid_input& e) {
+    // the packer's refusal: add the limit and what to do
+    const std::string what = e.what();
+    if(what.find("exceeds maximum_number_of_bubbles") == std::string::npos)
+      throw;
+    throw Invalid_input(what + " = " + std::to_string(std::llround(s.maximum_bubbles)) +
+                        " (a run needs about 2.6 kB of memory per node; raise maximum_number_of_bubbles or "
+                        "--max-nodes, or coarsen the metric)");
+  }
   say("estimated nodes: " + std::to_string(std::llround(rep.estimated_nodes)));
+  stop("the packing");
   const char* stage_names[4] = {"corners", "curves", "surfaces", "volume"};
   for(int d = 0; d < 4; ++d) {
     switch(d) {
@@ -246,6 +343,7 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
     rep.packing_converged[d] = st.converged;
     say(std::string("packed ") + stage_names[d] + ": " + std::to_string(st.bubbles) + " bubbles, " +
         std::to_string(st.iterations) + " iterations, " + std::to_string(st.seconds) + " s");
+    stop(std::string("the packing (after the ") + stage_names[d] + ")");
   }
   const auto nodes = packer.nodes();
 
@@ -290,6 +388,7 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   rep.boundary_seconds = seconds_since(t0);
   say("boundary front: " + std::to_string(bf.triangles.size()) + " triangles, " + std::to_string(rep.boundary_seconds) +
       " s");
+  stop("the boundary front");
   m.triangles = bf.triangles;
   m.triangle_refs = bf.patches;
   // feature edges: the curve of a curve node, or the curve joining two corners
@@ -375,10 +474,18 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   typedef Anisotropic_advancing_front_3<MetricField> Front;
   typename Front::Parameters fp;
   fp.allow_steiner_points = s.allow_steiner;
-  if(s.progress)
-    fp.progress = [&](std::size_t tets, std::size_t front) {
-      say("advancing front: " + std::to_string(tets) + " tets, front " + std::to_string(front) + " triangles");
+  // The progress hook doubles as a check point: every 2,000 tets when a stop
+  // is possible (about 50 ms of work), the messages every 100,000.
+  const std::size_t message_interval = fp.progress_interval;
+  if(stop.active())
+    fp.progress_interval = 2000;
+  if(s.progress || stop.active())
+    fp.progress = [&, message_interval](std::size_t tets, std::size_t front) {
+      stop("the advancing front");
+      if(tets % message_interval == 0)
+        say("advancing front: " + std::to_string(tets) + " tets, front " + std::to_string(front) + " triangles");
     };
+  install_stop_check(fp, stop, "the advancing front");
   Front front(field, fp);
   const typename Front::Result r = front.run(points, m.triangles);
   rep.front_seconds = seconds_since(t0);
@@ -400,10 +507,19 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
                           " packed nodes lie outside the boundary front");
   }
 
-  // 4. quality: metric flips and smoothing (boundary and features unchanged)
+  stop("the advancing front");
+
+  // 4. quality: metric flips and smoothing (boundary and features unchanged).
+  //    A run time limit cuts the improvement to the time left (the mesh
+  //    stays valid) instead of throwing.
   if(s.improve) {
     Improvement_options io;
     io.time_limit_seconds = s.improve_time_limit;
+    if(s.time_limit < std::numeric_limits<double>::infinity()) {
+      const double own = s.improve_time_limit < 0 ? 2.0 + 1e-4 * double(m.tets.size()) : s.improve_time_limit;
+      io.time_limit_seconds = std::max(0.0, std::min(own, stop.remaining()));
+    }
+    install_stop_check(io, stop, "the improvement", false);
     rep.improvement = improve_mesh(m, field, io);
     rep.improved = true;
     say("improvement: worst metric min dihedral " + std::to_string(rep.improvement.worst_before) + " -> " +
@@ -413,6 +529,7 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   rep.final_tets = m.tets.size();
 
   // 5. validity: never hand out an invalid mesh
+  stop("the improvement", false);
   t0 = std::chrono::steady_clock::now();
   Validity_options vo;
   vo.require_outward_triangles = true;
@@ -465,8 +582,16 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///     \cgalParamType{int} \cgalParamDefault{400} \cgalParamNEnd
 ///   \cgalParamNBegin{number_of_threads} \cgalParamDescription{threads of the packing (0: all); the mesh does not
 ///     depend on it} \cgalParamType{int} \cgalParamDefault{0} \cgalParamNEnd
-///   \cgalParamNBegin{maximum_number_of_bubbles} \cgalParamDescription{refuse larger node estimates}
-///     \cgalParamType{double} \cgalParamDefault{5e7} \cgalParamNEnd
+///   \cgalParamNBegin{maximum_number_of_bubbles} \cgalParamDescription{refuse (`Bubble_mesh_3::Invalid_input`, before
+///     any packing) when the estimated node count exceeds this; the default keeps a run under about 16 GB}
+///     \cgalParamType{double} \cgalParamDefault{`Bubble_mesh_3::default_maximum_number_of_nodes`} \cgalParamNEnd
+///   \cgalParamNBegin{time_limit} \cgalParamDescription{seconds for the whole run: when a check point (between
+///     stages, every 2,000 tets of the front) is passed after it, `Bubble_mesh_3::Time_limit_exceeded` is thrown; the
+///     improvement is cut to the time left instead (the mesh is returned), later stages are not cut}
+///     \cgalParamType{double} \cgalParamDefault{no limit} \cgalParamNEnd
+///   \cgalParamNBegin{should_stop} \cgalParamDescription{polled at the same check points (from the calling
+///     thread); when it returns true, `Bubble_mesh_3::Interrupted` is thrown. The command-line tool sets it from
+///     SIGINT} \cgalParamType{std::function<bool()>} \cgalParamDefault{none} \cgalParamNEnd
 ///   \cgalParamNBegin{allow_steiner_points} \cgalParamDescription{cavities the front cannot close may get points
 ///     strictly inside} \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
 ///   \cgalParamNBegin{mesh_improvement} \cgalParamDescription{metric flips and smoothing after the front
@@ -480,9 +605,13 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///     \cgalParamType{Bubble_mesh_3::Meshing_report*} \cgalParamDefault{nullptr} \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
-/// Throws `Bubble_mesh_3::Invalid_input` (bad domain, metric or too many
-/// nodes) or `Bubble_mesh_3::Meshing_failure` (no valid mesh); never returns
-/// a partial mesh.
+/// Throws `Bubble_mesh_3::Invalid_input` (a domain surface refused by
+/// `Bubble_mesh_3::IO::check_triangle_surface()`: zero-area faces, flat,
+/// self-intersecting, components oriented against their nesting; a bad
+/// metric; too many nodes), `Bubble_mesh_3::Meshing_failure` (no valid mesh)
+/// or `Bubble_mesh_3::Interrupted` / `Bubble_mesh_3::Time_limit_exceeded`
+/// (stopped on request); never returns a partial mesh. Several components,
+/// disjoint or nested (a hollow shell), make one subdomain.
 template <typename C3T3, typename MeshDomain, typename MetricField,
           typename NamedParameters = CGAL::parameters::Default_named_parameters>
 void make_anisotropic_mesh_3(C3T3& c3t3, const MeshDomain& domain, const MetricField& field,
@@ -490,7 +619,9 @@ void make_anisotropic_mesh_3(C3T3& c3t3, const MeshDomain& domain, const MetricF
 {
   namespace BM = Bubble_mesh_3;
   const BM::internal::Meshing_settings s = BM::internal::resolve_settings(np);
+  const auto t_run = std::chrono::steady_clock::now();
   BM::internal::Domain_mesh dm = BM::internal::mesh_domain(domain, field, s);
+  BM::internal::Stop_check(s, t_run)("the exterior padding", false);
   const auto t0 = std::chrono::steady_clock::now();
   c3t3.clear();
   std::size_t padding_tets = 0;

@@ -151,7 +151,7 @@ expect mesh-open-surface 2 "open.off" -- "$tool" "$work/open.off" -o "$work/open
 check "no output for an open surface" [ ! -e "$work/open.mesh" ]
 expect mesh-missing-o 2 "missing -o" -- "$tool" "$work/cube.off" --size 0.3
 expect mesh-bad-o 2 "must end in .mesh" -- "$tool" "$work/cube.off" -o "$work/m.txt"
-expect mesh-too-many 2 "exceeds" -- "$tool" "$work/cube.off" -o "$work/big.mesh" --size 0.3 --max-nodes 10 --quiet
+expect mesh-too-many 2 "estimated number of bubbles .* exceeds maximum_number_of_bubbles = 10 " -- "$tool" "$work/cube.off" -o "$work/big.mesh" --size 0.3 --max-nodes 10 --quiet
 check "no output when refused" [ ! -e "$work/big.mesh" ]
 expect mesh-bad-metric 2 "not positive definite" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-const 1,2,0,1,0,1 --quiet
 expect mesh-bad-cylindrical 2 "cylindrical" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-cylindrical 0,0,0,0,0,0,0.2,3,1 --quiet
@@ -159,6 +159,90 @@ expect mesh-bad-plane 2 "section-plane" -- "$tool" "$work/cube.off" -o "$work/x.
 expect mesh-bad-angle 2 "feature-angle" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --feature-angle 200 --quiet
 expect mesh-bad-threads 2 "threads" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --threads -2 --quiet
 check "no output after refusals" [ ! -e "$work/x.mesh" ]
+
+# Input checks (doc/Bubble_mesh_3/input_checks.md): every bad surface is refused
+# with exit 2, one line naming the file and the problem, and no output.
+bad="$data/bad"
+refuse() { # NAME FILE PATTERN [extra args]
+  local name="$1" file="$2" pattern="$3"
+  shift 3
+  rm -f "$work/bad.mesh"
+  expect "$name" 2 "$file: $pattern" -- "$tool" "$file" -o "$work/bad.mesh" --size 0.3 --quiet "$@"
+  check "$name: no output" [ ! -e "$work/bad.mesh" ]
+}
+refuse bad-missing "$bad/missing.off" "cannot open file"
+refuse bad-empty "$bad/empty.off" "cannot parse as off"
+refuse bad-truncated "$bad/truncated.off" "cannot parse as off"
+refuse bad-nan-vertex "$bad/nan_vertex.off" "cannot parse as off"
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' >"$work/truncated.stl"
+refuse bad-truncated-stl "$work/truncated.stl" "(cannot parse as stl|the surface has no faces)"
+refuse bad-unknown-extension "$bad/../cube6.mesh" "unknown surface file extension 'mesh'"
+refuse bad-quads "$bad/quads.off" "face 0 \(0-based\) has 4 vertices; only triangle surfaces are accepted"
+head -n 21 "$work/cube.off" | awk 'NR==2{print "8 11 0"; next} {print}' >"$work/open11.off" # 11 of the 12 faces
+refuse bad-open "$work/open11.off" "the surface is not closed: 3 boundary edges"
+refuse bad-non-manifold-edge "$bad/non_manifold_edge.off" "non-manifold surface: 1 edges are shared by more than two faces"
+refuse bad-non-manifold-vertex "$bad/non_manifold_vertex.off" "non-manifold surface: 1 vertex copies needed"
+refuse bad-degenerate-face "$bad/degenerate_face.off" "face 5 \(0-based\) has zero area"
+refuse bad-flat "$bad/flat.off" "the surface encloses no volume: component 0 \(of 1\) is flat"
+refuse bad-self-intersecting "$bad/self_intersecting.off" "the surface intersects itself: [0-9]+ pairs of faces intersect, e.g. faces"
+
+# Repaired, and said so in the progress output: orientation; several components.
+expect fix-inward "$((0))" "" -- "$tool" "$bad/inward_cube.off" -o "$work/inward.mesh" --size 0.3
+check "inward cube: reversal reported" grep -q "repaired: 1 component(s) of inward_cube.off reversed" "$work/err.txt"
+expect fix-inconsistent 0 "" -- "$tool" "$bad/inconsistent_orientation.off" -o "$work/incons.mesh" --size 0.3
+check "inconsistent faces: repair reported" grep -q "repaired: faces of inconsistent_orientation.off reoriented" "$work/err.txt"
+expect eval-inconsistent 0 "" -- "$tool" eval "$work/incons.mesh" --require-valid --report "$work/incons.json" --quiet
+check "inconsistent cube volume = 1" awk -v v="$(json_value "$work/incons.json" volume)" 'BEGIN { exit !(v > 0.999999 && v < 1.000001) }'
+expect two-components 0 "" -- "$tool" "$bad/two_cubes.off" -o "$work/two.mesh" --size 0.3
+check "two components reported" grep -q "2 components" "$work/err.txt"
+expect eval-two-components 0 "" -- "$tool" eval "$work/two.mesh" --require-valid --report "$work/two.json" --quiet
+check "two cubes: volume 2" awk -v v="$(json_value "$work/two.json" volume)" 'BEGIN { exit !(v > 1.999999 && v < 2.000001) }'
+expect nested-components 0 "" -- "$tool" "$bad/nested_cubes.off" -o "$work/nested.mesh" --size 0.4
+check "nested: cavity reported" grep -q "2 components (cavities: 1)" "$work/err.txt"
+expect eval-nested 0 "" -- "$tool" eval "$work/nested.mesh" --require-valid --report "$work/nested.json" --quiet
+check "hollow shell: volume 27 - 1 = 26" awk -v v="$(json_value "$work/nested.json" volume)" 'BEGIN { exit !(v > 25.999999 && v < 26.000001) }'
+
+# Metrics: NaN/Inf, not SPD, too anisotropic (eigenvalue ratio > 1e12), in
+# --metric-const and in a .sol; .sol count and type mismatches.
+expect metric-inf 2 "--metric-const: metric has a NaN or infinite entry" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-const 1,0,0,inf,0,1 --quiet
+expect metric-anisotropic 2 "--metric-const: metric is too anisotropic: eigenvalue ratio" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-const 1,0,0,1,0,1e13 --quiet
+expect metric-anisotropic-ok 0 "" -- "$tool" eval "$cube" --metric-const 1,0,0,1,0,1e11 --quiet
+sed 's/^1 0 1 0 0 1$/1 0 1 0 0 nan/' "$work/identity.sol" >"$work/nan.sol"
+expect sol-nan 2 "nan.sol:[0-9]+: vertex 1: metric has a NaN" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-mesh "$cube" --metric-sol "$work/nan.sol" --quiet
+sed 's/^1 0 1 0 0 1$/1 0 1 0 0 1e13/' "$work/identity.sol" >"$work/aniso.sol"
+expect sol-anisotropic 2 "aniso.sol:[0-9]+: vertex 1: metric is too anisotropic" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-mesh "$cube" --metric-sol "$work/aniso.sol" --quiet
+expect sol-count-mesh 2 "short.sol:[0-9]+: SolAtVertices has 7 entries but the mesh has 8" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-mesh "$cube" --metric-sol "$work/short.sol" --quiet
+sed 's/^1 3$/1 2/' "$work/identity.sol" >"$work/vector.sol"
+expect sol-type 2 "vector.sol:[0-9]+: SolAtVertices field of type 2 is not a metric" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-mesh "$cube" --metric-sol "$work/vector.sol" --quiet
+check "no output after metric refusals" [ ! -e "$work/x.mesh" ]
+
+# Background mesh: extended by the nearest vertex where it does not cover the
+# domain (a warning says how much), refused when it misses the domain.
+awk '/^Vertices/{v=1; print; getline; print; n=$1; next} v&&n>0{print $1*0.5, $2*0.5, $3*0.5, $4; n--; next} {print}' "$cube" >"$work/half.mesh"
+expect bg-partial 0 "" -- "$tool" "$work/cube.off" -o "$work/bgp.mesh" --metric-mesh "$work/half.mesh" --metric-sol "$work/identity.sol"
+check "bg partial: warning" grep -qE "warning: [0-9]+ of 8 surface vertices lie outside the background mesh half.mesh" "$work/err.txt"
+awk '/^Vertices/{v=1; print; getline; print; n=$1; next} v&&n>0{print $1+10, $2, $3, $4; n--; next} {print}' "$cube" >"$work/far.mesh"
+expect bg-disjoint 2 "far.mesh: the background mesh does not overlap the domain" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-mesh "$work/far.mesh" --metric-sol "$work/identity.sol" --quiet
+check "no output for a disjoint background" [ ! -e "$work/x.mesh" ]
+
+# Interruption: SIGINT stops at the next check point, exit 130, no file;
+# --time-limit likewise with exit 4.
+expect bad-time-limit 2 "--time-limit must be a positive number" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --time-limit 0
+rm -f "$work/sigint.mesh"
+"$tool" "$work/cube.off" -o "$work/sigint.mesh" --size 0.05 --quiet >"$work/out.txt" 2>"$work/err.txt" &
+pid=$!
+sleep 0.5
+kill -INT "$pid"
+wait "$pid"
+got=$?
+check "sigint: exit 130 (got $got)" [ "$got" -eq 130 ]
+check "sigint: one line" grep -q "interrupted during .* (SIGINT); nothing written" "$work/err.txt"
+check "sigint: no output" [ -z "$(ls "$work" | grep sigint.mesh)" ]
+rm -f "$work/tl.mesh"
+expect time-limit 4 "time limit of 0.5 s reached during .* \(--time-limit\); nothing written" -- "$tool" "$work/cube.off" -o "$work/tl.mesh" --size 0.05 --time-limit 0.5 --quiet
+check "time limit: no output" [ -z "$(ls "$work" | grep tl.mesh)" ]
+expect time-limit-generous 0 "" -- "$tool" "$work/cube.off" -o "$work/tl.mesh" --size 0.3 --time-limit 1000 --quiet
+check "generous time limit: output" [ -s "$work/tl.mesh" ]
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -236,6 +236,22 @@ TEST(AdvancingFront, UnjitteredGridIsCospherical)
   EXPECT_EQ(r.statistics.unused_nodes, 0u);
 }
 
+TEST(AdvancingFront, StopsWhenAsked)
+{
+  // should_stop is asked every 1,000 decisions: a stop after the third ask
+  // throws Interrupted; one that never fires changes nothing
+  const Domain d = box(1, 1, 1, 0.1, 3);
+  Field field(Metric::isotropic(0.1));
+  Front::Parameters prm;
+  int asked = 0;
+  prm.should_stop = [&asked] { return ++asked >= 3; };
+  EXPECT_THROW(Front(field, prm).run(d.points, d.boundary), BM::Interrupted);
+  EXPECT_EQ(asked, 3);
+  prm.should_stop = [] { return false; };
+  const Front::Result r = Front(field, prm).run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+}
+
 TEST(AdvancingFront, StretchedMetricAlignsTets)
 {
   // a jittered lattice stretched 4x along x, and the metric that sees it as a

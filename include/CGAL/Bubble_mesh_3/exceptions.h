@@ -46,6 +46,25 @@ public:
   explicit Meshing_failure(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// \ingroup PkgBubbleMesh3Ref
+/// Meshing was stopped on request: the `should_stop` callback returned true
+/// (the command-line tool sets it on SIGINT and exits with code 130). Neither
+/// an `Invalid_input` nor a `Meshing_failure`; no mesh is returned. The
+/// message says in which stage the run stopped.
+class Interrupted : public std::runtime_error {
+public:
+  explicit Interrupted(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// \ingroup PkgBubbleMesh3Ref
+/// The `time_limit` of the whole run was reached before the mesh was complete
+/// (the command-line tool's `--time-limit`, exit code 4). An `Interrupted`;
+/// no mesh is returned. The message gives the limit and the stage.
+class Time_limit_exceeded : public Interrupted {
+public:
+  explicit Time_limit_exceeded(const std::string& what) : Interrupted(what) {}
+};
+
 } // namespace Bubble_mesh_3
 } // namespace CGAL
 

@@ -16,6 +16,15 @@
 
 namespace CGAL {
 namespace Bubble_mesh_3 {
+
+/// \ingroup PkgBubbleMesh3Ref
+/// The default of `maximum_number_of_bubbles` (and of the tool's
+/// `--max-nodes`), chosen for a 24 GB machine: the measured peak memory of a
+/// whole run of the tool (packing, front, improvement) is about 2.6 kB per
+/// node (83 MB at 24k nodes, 320 MB at 110k, 1.13 GB at 435k), so 5e6 nodes
+/// need about 13 GB, leaving room for the C3T3 of `make_anisotropic_mesh_3()`.
+constexpr double default_maximum_number_of_nodes = 5e6;
+
 namespace internal_np {
 enum number_of_threads_t { number_of_threads };
 enum maximum_number_of_bubbles_t { maximum_number_of_bubbles };
@@ -23,6 +32,8 @@ enum allow_steiner_points_t { allow_steiner_points };
 enum meshing_report_t { meshing_report };
 enum mesh_improvement_t { mesh_improvement };
 enum improvement_time_limit_t { improvement_time_limit };
+enum time_limit_t { time_limit };
+enum should_stop_t { should_stop };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -46,6 +57,8 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, meshing_report)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, mesh_improvement)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, improvement_time_limit)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, time_limit)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, should_stop)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -62,7 +75,7 @@ namespace parameters {
   }
 /// number of threads of the packing (0: all, 1: serial); the mesh does not depend on it
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, number_of_threads)
-/// refuse (Invalid_input) when the estimated node count exceeds this (default 5e7)
+/// refuse (Invalid_input) when the estimated node count exceeds this (default: `default_maximum_number_of_nodes`)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, maximum_number_of_bubbles)
 /// whether the front may add Steiner points strictly inside cavities it cannot close (default true)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, allow_steiner_points)
@@ -72,6 +85,11 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, meshing_report)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, mesh_improvement)
 /// seconds for the improvement (default: none, bounded by passes and reproducible; negative: automatic)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, improvement_time_limit)
+/// seconds for the whole run (default: none); when reached at a check point before the mesh is complete,
+/// `Time_limit_exceeded` is thrown; the improvement is cut to the time left instead
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, time_limit)
+/// a `std::function<bool()>` polled at check points; when it returns true, `Interrupted` is thrown
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, should_stop)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, callback)
