@@ -14,7 +14,10 @@
 //   bench_packer --only 20000 --threads 1 --identity   one size, one thread count, one metric
 //   (--graded: the graded metric only; --skin s: Parameters::skin;
 //    --no-population-control: Parameters::population_control = false;
-//    --slabs: interior bubbles per tenth of the box along x)
+//    --slabs: interior bubbles and their median nearest w per tenth of the box
+//    along x, nearest-w percentiles; --grading G: g = g0 (1 + G x), default 0.9;
+//    --tolerance t, --iterations n: Parameters::tolerance, maximum_iterations;
+//    --frozen-metric: the force without the metric's gradient, as before)
 #include <CGAL/Bubble_packer_3.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
@@ -23,6 +26,7 @@
 #include <CGAL/Mesh_polyhedron_3.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -53,6 +57,10 @@ static Polyhedron box(double a)
 static double bench_skin = -1; // -1: the default of Parameters
 static bool bench_population = true;
 static bool bench_slabs = false;
+static double bench_tolerance = -1; // -1: the default of Parameters
+static int bench_iterations = -1;
+static double bench_grading = 0.9; // g = g0 (1 + grading x) in the graded case
+static bool bench_frozen = false;  // Bubble_packer_traits_3::metric_gradient_force() == false
 
 template <typename Field>
 static void run(const char* name, const Domain& domain, const Field& field, double target, int threads)
@@ -63,7 +71,12 @@ static void run(const char* name, const Domain& domain, const Field& field, doub
   if(bench_skin > 0)
     prm.skin = bench_skin;
   prm.population_control = bench_population;
-  Packer packer(domain, field, prm);
+  if(bench_tolerance > 0)
+    prm.tolerance = bench_tolerance;
+  if(bench_iterations > 0)
+    prm.maximum_iterations = bench_iterations;
+  typename Packer::Traits traits(1, 1, 2.5, 0.4, !bench_frozen);
+  Packer packer(domain, field, prm, traits);
   const auto t0 = std::chrono::steady_clock::now();
   const std::clock_t c0 = std::clock();
   packer.run();
@@ -78,11 +91,49 @@ static void run(const char* name, const Domain& domain, const Field& field, doub
               s3.neighbour_rebuilds, s3.population_rounds,
               packer.statistics().nearest_p05, packer.statistics().nearest_p50, packer.statistics().nearest_min);
   std::fflush(stdout);
+  std::printf("          estimate %.0f nodes, packed %zu (%.3f)\n", packer.estimated_number_of_bubbles(),
+              packer.number_of_nodes(), double(packer.number_of_nodes()) / packer.estimated_number_of_bubbles());
   if(bench_slabs) { // interior bubbles per tenth of the box along x, against the volume estimate
+    namespace P = CGAL::Bubble_mesh_3::internal::packing;
+    const auto nodes = packer.nodes();
+    std::vector<P::Bubble_record> recs(nodes.size());
+    for(std::size_t i = 0; i < nodes.size(); ++i) {
+      recs[i].x = P::Vec3(nodes[i].point.x(), nodes[i].point.y(), nodes[i].point.z());
+      recs[i].m = P::Sym3(field(nodes[i].point));
+    }
+    P::Neighbour_lists lists;
+    lists.build(recs, std::vector<char>(recs.size(), 1), 1.5, P::Parallel_executor(1));
+    std::vector<std::vector<double>> near_slab(10), near_dim(4);
     std::vector<int> count(10, 0);
-    for(const auto& nd : packer.nodes())
-      if(nd.dimension == 3)
-        count[std::min(9, int(nd.point.x() * 10 / domain.bbox().xmax()))]++;
+    for(std::size_t i = 0; i < nodes.size(); ++i) {
+      double w = 1.5;
+      for(const int* j = lists.begin(i); j != lists.end(i); ++j)
+        w = std::min(w, P::normalized_distance_to(recs[i].x, recs[i].m, recs[*j]));
+      near_dim[nodes[i].dimension].push_back(w);
+      if(nodes[i].dimension == 3) {
+        const int k = std::min(9, int(nodes[i].point.x() * 10 / domain.bbox().xmax()));
+        count[k]++;
+        near_slab[k].push_back(w);
+      }
+    }
+    auto median = [](std::vector<double> v) {
+      if(v.empty())
+        return 0.0;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    std::printf("  nearest w median by dimension: 1 %.3f, 2 %.3f, 3 %.3f\n", median(near_dim[1]), median(near_dim[2]),
+                median(near_dim[3]));
+    {
+      std::vector<double> v = near_dim[3];
+      std::sort(v.begin(), v.end());
+      if(!v.empty()) {
+        std::printf("  interior nearest w percentiles:");
+        for(double q : {0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 0.9})
+          std::printf(" p%g %.3f", q * 100, v[std::size_t(q * double(v.size() - 1))]);
+        std::printf("\n");
+      }
+    }
     for(int k = 0; k < 10; ++k) {
       // expected: sqrt2 * int sqrt det M over the slab (bbox of the domain)
       double e = 0;
@@ -92,7 +143,8 @@ static void run(const char* name, const Domain& domain, const Field& field, doub
         e += std::sqrt(2.0) * std::sqrt(field(K::Point_3(x, 0.5, 0.5)).matrix().determinant()) * L / 1000 *
              (domain.bbox().ymax() * domain.bbox().zmax());
       }
-      std::printf("  slab %d: %d interior, volume estimate %.0f\n", k, count[k], e);
+      std::printf("  slab %d: %d interior, volume estimate %.0f, median nearest w %.3f\n", k, count[k], e,
+                  median(near_slab[k]));
     }
   }
 }
@@ -110,6 +162,14 @@ int main(int argc, char** argv)
       thread_counts = {std::atoi(argv[++i])};
     } else if(a == "--skin" && i + 1 < argc) {
       bench_skin = std::atof(argv[++i]);
+    } else if(a == "--tolerance" && i + 1 < argc) {
+      bench_tolerance = std::atof(argv[++i]);
+    } else if(a == "--iterations" && i + 1 < argc) {
+      bench_iterations = std::atoi(argv[++i]);
+    } else if(a == "--grading" && i + 1 < argc) {
+      bench_grading = std::atof(argv[++i]);
+    } else if(a == "--frozen-metric") {
+      bench_frozen = true;
     } else if(a == "--slabs") {
       bench_slabs = true;
     } else if(a == "--no-population-control") {
@@ -139,18 +199,19 @@ int main(int argc, char** argv)
     // graded anisotropic on [0,10] x [0,1] x [0,1]: sizes (10 g, g, g) along
     // (x, y, z), g grows 1 -> 10 along x; scaled so that sqrt(2) int sqrt(det M)
     // = n (int_0^10 dx / (10 g(x)^3))
-    const double integral = [] {
+    const double G = bench_grading;
+    const double integral = [G] {
       double s = 0;
       const int m = 10000;
       for(int i = 0; i < m; ++i) {
-        const double x = 10 * (i + 0.5) / m, g = 1 + 0.9 * x;
+        const double x = 10 * (i + 0.5) / m, g = 1 + G * x;
         s += 10 / (10 * g * g * g) / m;
       }
       return s;
     }();
     const double g0 = std::cbrt(std::sqrt(2.0) * integral / n);
-    auto graded = CGAL::make_function_metric_field_3<K>([g0](const K::Point_3& q) {
-      const double g = g0 * (1 + 0.9 * q.x());
+    auto graded = CGAL::make_function_metric_field_3<K>([g0, G](const K::Point_3& q) {
+      const double g = g0 * (1 + G * q.x());
       return Metric::from_entries(1 / (100 * g * g), 0, 0, 1 / (g * g), 0, 1 / (g * g));
     });
     for(int threads : thread_counts) {

@@ -69,9 +69,18 @@ namespace CGAL {
 /// than the traits' minimum distance is deleted and the gaps are filled again,
 /// without moving any bubble, until nothing changes.
 ///
-/// \tparam MeshDomain a model of `MeshDomainWithFeatures_3` whose surface
-///   patches are known as triangles: `CGAL::Polyhedral_mesh_domain_with_features_3`
-///   (call `detect_features()` first).
+/// \tparam MeshDomain a model of `MeshDomainWithFeatures_3`:
+///   `CGAL::Polyhedral_mesh_domain_with_features_3` (call `detect_features()`
+///   first; its faces are the patches), or any other model such as
+///   `CGAL::Mesh_domain_with_polyline_features_3<CGAL::Labeled_mesh_domain_3<K>>`
+///   (an implicit function with the feature curves given by the user through
+///   `add_features()`), whose patches are triangulated on a grid from its inside
+///   test (`Parameters::surface_grid_resolution`) to guide the surface stage;
+///   the surface nodes are then moved onto the exact surface (bisection with
+///   the inside test). On such a domain a patch that a feature curve crosses
+///   (a labelled domain has one patch per pair of labels) is packed as one
+///   patch: its bubbles may slide across the curve, which they only meet as
+///   fixed curve bubbles.
 /// \tparam MetricField a model of `MetricField_3` (evaluated concurrently).
 /// \tparam Traits_ a model of `BubblePackerTraits_3`; default
 ///   `Bubble_packer_traits_3<MetricField::Kernel>`.
@@ -109,6 +118,11 @@ public:
     double skin = 0.2;              ///< Verlet list margin, in bubble sizes
     bool population_control = true; ///< adaptive insertion and deletion
     std::size_t curve_samples = 2048; ///< arc-length table size per feature curve
+    /// domains without a polyhedral surface (e.g. `Labeled_mesh_domain_3`): cells
+    /// along the longest side of the bounding box of the grid on which their
+    /// surface patches are triangulated (a guide for the surface stage; the
+    /// surface nodes end on the domain's exact surface)
+    int surface_grid_resolution = 64;
   };
 
   /// What happened in one stage.
@@ -139,8 +153,8 @@ public:
       : domain_(domain), field_(field), param_(parameters), traits_(traits), refresh_(field),
         exec_(parameters.number_of_threads)
   {
-    oracle_ = std::make_unique<Oracle>(domain, parameters.curve_samples,
-                                       Bubble_mesh_3::internal::packing::patches_of_polyhedral_domain(domain));
+    auto patches = Bubble_mesh_3::internal::packing::patches_of_domain(domain, parameters.surface_grid_resolution);
+    oracle_ = std::make_unique<Oracle>(domain, parameters.curve_samples, std::move(patches.first), patches.second);
     const CGAL::Bbox_3 bb = domain.bbox();
     lo_ = Vec3(bb.xmin(), bb.ymin(), bb.zmin());
     hi_ = Vec3(bb.xmax(), bb.ymax(), bb.zmax());
@@ -243,6 +257,16 @@ public:
     s.expected_bubbles = seeder.run();
     s.seeded = bubbles_.size() - first;
     relax(constraint, s, 0.5);
+    if(oracle_->surface_tolerance() > 0) {
+      // the patches were a triangulated guide: onto the exact surface, along the guide's normal
+      exec_.for_each(bubbles_.size(), [&](std::size_t i) {
+        Record& b = bubbles_[i];
+        if(b.fixed)
+          return;
+        b.x = oracle_->exact_surface_point(b.x, b.n);
+        refresh_(b);
+      });
+    }
     finish_stage(2, s, t0);
   }
 

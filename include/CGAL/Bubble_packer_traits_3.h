@@ -30,6 +30,21 @@ namespace CGAL {
 /// <b>Force.</b> `f(w) = k (1.25 w^3 - 2.375 w^2 + 1.125)` for `0 <= w <= 1.5`,
 /// 0 beyond: repulsive below 1, attractive between 1 and 1.5.
 ///
+/// <b>Force direction.</b> The pair force is minus the gradient of the pair
+/// energy `phi(w)` (`phi' = -f`) with respect to the bubble's position. For a
+/// constant metric it is along the segment between the centres. For a varying
+/// metric the default (`metric_gradient_force() == true`) includes the
+/// variation of the bubble's own metric as it moves, `d^T (dM_i/dx) d`, which
+/// turns the direction from the chord to the (metric) geodesic between the two
+/// centres: then a packing that is uniform in the metric is an equilibrium (to
+/// first order in the metric's variation across a bubble).
+/// With the metrics frozen (`false`, the previous behaviour) the direction is
+/// the chord's, and in a graded metric the packing creeps toward the fine end
+/// and does not converge (1:10 graded box: 400 iterations without converging
+/// against 64 at 10k nodes, see benchmark/Bubble_mesh_3/RESULTS_packer.md).
+/// The metric gradient is estimated at each bubble by least squares from its
+/// neighbours' metrics, so the metric field is evaluated no more often.
+///
 /// <b>Dynamics.</b> `m x'' + c x' = f` is integrated by semi-implicit
 /// (symplectic) Euler, `v' = (m v + dt f) / (m + c dt)`, `x' = x + dt v'`, with
 /// the force of a pair expressed in the metric of the bubble it acts on: bubble
@@ -106,10 +121,10 @@ public:
     double beta_, gamma_;
   };
 
-  /// `k`, `m`, `c`, `dt`: see the class documentation
+  /// `k`, `m`, `c`, `dt`, `metric_gradient_force`: see the class documentation
   explicit Bubble_packer_traits_3(double spring_constant = 1, double mass = 1, double damping = 2.5,
-                                  double time_step = 0.4)
-      : k_(spring_constant), m_(mass), c_(damping), dt_(time_step)
+                                  double time_step = 0.4, bool metric_gradient_force = true)
+      : k_(spring_constant), m_(mass), c_(damping), dt_(time_step), gradient_(metric_gradient_force)
   {
     if(!(k_ > 0 && m_ >= 0 && c_ >= 0 && dt_ > 0 && m_ + c_ * dt_ > 0))
       throw Bubble_mesh_3::Invalid_input("Bubble_packer_traits_3: need k > 0, m >= 0, c >= 0, dt > 0, m + c dt > 0");
@@ -126,6 +141,10 @@ public:
   double mass() const { return m_; }
   double damping() const { return c_; }
   double time_step() const { return dt_; }
+  /// whether the force includes the variation of the bubble's own metric with
+  /// its position (true: the exact gradient of the pair energies; false: the
+  /// metrics frozen, the force along the chord between the centres)
+  bool metric_gradient_force() const { return gradient_; }
 
   /// the largest displacement of one step, in metric units of the bubble
   double maximum_step() const { return 0.25; }
@@ -154,6 +173,7 @@ public:
 
 private:
   double k_, m_, c_, dt_;
+  bool gradient_;
 };
 
 } // namespace CGAL

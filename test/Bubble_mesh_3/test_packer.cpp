@@ -5,7 +5,8 @@
 //
 // Tests of CGAL::Bubble_packer_3 (issue 3): 1D, 2D and 3D packing quality,
 // entity membership, the node-count estimate, thread determinism, errors.
-// Domains are generated in code (a cube, an icosphere).
+// Domains are generated in code (a cube, an icosphere, a graded 10 x 1 x 1
+// box, an implicit sphere and an implicit cylinder with user-given rims).
 #include <CGAL/Bubble_packer_3.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
@@ -13,6 +14,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_polyhedron_3.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_domain_with_polyline_features_3.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -22,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -520,4 +524,248 @@ TEST(BubblePacker, InvalidMetricPropagates)
   });
   CGAL::Bubble_packer_3<Domain, decltype(field)> packer(domain, field);
   EXPECT_THROW(packer.run(), CGAL::Bubble_mesh_3::Invalid_metric);
+}
+
+// ---------------------------------------------------------------------------
+// Graded anisotropic metric: sizes (10 g, g, g) with g = g0 (1 + 0.9 x) on the
+// 10 x 1 x 1 box (1:10 stretched, 10 times larger at x = 10 than at x = 0).
+// With the metrics frozen in the force, this creeps toward the fine end and
+// hits the iteration cap; with the metric gradient it converges.
+
+namespace {
+
+// smallest w = 2ab / (a + b) from every node to another one, by brute force
+template <typename Field>
+std::vector<double> nearest_normalized_distances(const std::vector<Vec3>& pts, const Field& field)
+{
+  std::vector<Eigen::Matrix3d> m;
+  for(const auto& p : pts)
+    m.push_back(field(Point_3(p[0], p[1], p[2])).matrix());
+  std::vector<double> nearest(pts.size(), 1e300);
+  for(std::size_t i = 0; i < pts.size(); ++i)
+    for(std::size_t j = i + 1; j < pts.size(); ++j) {
+      const Vec3 d = pts[j] - pts[i];
+      const double a = std::sqrt(d.dot(m[i] * d)), b = std::sqrt(d.dot(m[j] * d));
+      const double w = 2 * a * b / (a + b);
+      nearest[i] = std::min(nearest[i], w);
+      nearest[j] = std::min(nearest[j], w);
+    }
+  return nearest;
+}
+
+double median(std::vector<double> v)
+{
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+} // namespace
+
+TEST(BubblePacker, GradedStretched3DConverges)
+{
+  Polyhedron p = make_box(10, 1, 1);
+  Domain domain(p);
+  domain.detect_features(60);
+  const double g0 = 0.034; // about 3,000 nodes
+  const bool frozen = std::getenv("BUBBLE_PACKER_TEST_FROZEN_METRIC") != nullptr; // to see the test fail
+  auto field = CGAL::make_function_metric_field_3<K>([g0](const Point_3& q) {
+    const double g = g0 * (1 + 0.9 * q.x());
+    return Metric::from_entries(1 / (100 * g * g), 0, 0, 1 / (g * g), 0, 1 / (g * g));
+  });
+  typedef CGAL::Bubble_packer_3<Domain, decltype(field)> Packer;
+  Packer packer(domain, field, Packer::Parameters(), Packer::Traits(1, 1, 2.5, 0.4, !frozen));
+  packer.run();
+  print_statistics(packer);
+  const auto& s3 = packer.statistics().stages[3];
+  const std::vector<Vec3> pts = positions(packer);
+  const std::vector<double> nearest = nearest_normalized_distances(pts, field);
+  std::vector<double> fine_end; // interior nodes with x < 1, where the creep used to pile them up
+  std::size_t k = 0;
+  for(const auto& n : packer.nodes()) {
+    if(n.dimension == 3 && n.point.x() < 1)
+      fine_end.push_back(nearest[k]);
+    ++k;
+  }
+  const double estimate = packer.estimated_number_of_bubbles();
+  std::cout << "    nodes " << pts.size() << " (estimate " << estimate << "), nearest w min "
+            << *std::min_element(nearest.begin(), nearest.end()) << " median " << median(nearest)
+            << ", interior x < 1: " << fine_end.size() << " nodes, median " << median(fine_end) << "\n";
+  EXPECT_TRUE(s3.converged);
+  EXPECT_LE(s3.iterations, 150);
+  EXPECT_GE(*std::min_element(nearest.begin(), nearest.end()), 0.6);
+  EXPECT_GE(median(nearest), 0.8);
+  EXPECT_GE(median(fine_end), 0.75);
+  // the estimate's boundary term is rough when the box is 2 to 20 bubbles wide
+  EXPECT_NEAR(double(pts.size()) / estimate, 0.9, 0.12);
+}
+
+// ---------------------------------------------------------------------------
+// Implicit domains (Labeled_mesh_domain_3), feature curves given by the user.
+
+namespace {
+
+typedef CGAL::Labeled_mesh_domain_3<K> Implicit_base;
+typedef CGAL::Mesh_domain_with_polyline_features_3<Implicit_base> Implicit_domain;
+typedef CGAL::Bubble_packer_3<Implicit_domain, Constant_field> Implicit_packer;
+
+// uniform in [0, 1) (std::mt19937 is bit-exact; the distributions are not)
+double uniform_unit(std::mt19937& g) { return double(g()) / 4294967296.0; }
+
+double sphere_function(const Point_3& p) { return p.x() * p.x() + p.y() * p.y() + p.z() * p.z() - 1; }
+// the cylinder x^2 + y^2 <= 1, |z| <= 1 (a signed distance away from its rims)
+double cylinder_function(const Point_3& p)
+{
+  return std::max(std::sqrt(p.x() * p.x() + p.y() * p.y()) - 1, std::abs(p.z()) - 1);
+}
+
+Implicit_domain implicit_domain(double (*f)(const Point_3&))
+{
+  namespace params = CGAL::parameters;
+  return Implicit_domain(Implicit_base::create_implicit_mesh_domain(
+      f, K::Sphere_3(CGAL::ORIGIN, 4.0), params::relative_error_bound = 1e-9));
+}
+
+// min pair, largest distance from a sample point to the nearest node (both in
+// units of h), for nodes of dimension <= max_dim
+struct Spacing {
+  double min_pair = 0, coverage = 0;
+};
+Spacing spacing(const std::vector<Vec3>& pts, double h, const std::vector<Vec3>& samples)
+{
+  Spacing s;
+  const Metric m = Metric::isotropic(h);
+  Mapped_points mp(pts, m);
+  s.min_pair = 1e300;
+  for(std::size_t i = 0; i < pts.size(); ++i)
+    s.min_pair = std::min(s.min_pair, mp.nearest(pts[i], int(i)));
+  for(const auto& q : samples)
+    s.coverage = std::max(s.coverage, mp.nearest(q));
+  return s;
+}
+
+} // namespace
+
+TEST(BubblePacker, ImplicitSphere)
+{
+  const Implicit_domain domain = implicit_domain(sphere_function);
+  const double h = 0.2;
+  Constant_field field = Constant_field::isotropic(h);
+  Implicit_packer packer(domain, field);
+  packer.run();
+  print_statistics(packer);
+  std::vector<Vec3> all, surface;
+  double off_surface = 0, outside = -1;
+  std::size_t interior = 0;
+  for(const auto& n : packer.nodes()) {
+    const Vec3 x = vec(n.point);
+    all.push_back(x);
+    if(n.dimension == 2) {
+      surface.push_back(x);
+      off_surface = std::max(off_surface, std::abs(x.norm() - 1));
+    } else {
+      EXPECT_EQ(n.dimension, 3);
+      ++interior;
+      outside = std::max(outside, x.norm() - 1);
+    }
+  }
+  // samples on the sphere and in the ball
+  std::mt19937 gen(3);
+  std::normal_distribution<double> normal;
+  std::vector<Vec3> on_sphere, in_ball;
+  for(int k = 0; k < 4000; ++k) {
+    const Vec3 u = Vec3(normal(gen), normal(gen), normal(gen)).normalized();
+    on_sphere.push_back(u);
+    in_ball.push_back(u * std::cbrt(uniform_unit(gen)));
+  }
+  const Spacing s2 = spacing(surface, h, on_sphere);
+  const Spacing s3 = spacing(all, h, in_ball);
+  const double pi = 3.14159265358979;
+  const double area = 4 * pi / (h * h), volume = 4 * pi / 3 / (h * h * h);
+  const double estimate = std::sqrt(2.0) * volume + area / std::sqrt(3.0);
+  std::cout << "    surface nodes " << surface.size() << " (hexagonal estimate " << 2 / std::sqrt(3.0) * area
+            << "), largest | |x| - 1 | " << off_surface << ", min pair " << s2.min_pair << ", coverage "
+            << s2.coverage << "; interior " << interior << ", largest |x| - 1 " << outside << "; all: min pair "
+            << s3.min_pair << ", coverage " << s3.coverage << ", nodes " << all.size() << " / estimate "
+            << estimate << "\n";
+  EXPECT_LE(off_surface, 1e-6);
+  EXPECT_LT(outside, 0);
+  EXPECT_GE(s2.min_pair, 0.6);
+  EXPECT_LE(s2.coverage, 0.75);
+  EXPECT_NEAR(surface.size() / (2 / std::sqrt(3.0) * area), 1.0, 0.15);
+  EXPECT_GE(s3.min_pair, 0.6);
+  EXPECT_LE(s3.coverage, 0.75);
+  EXPECT_NEAR(all.size() / estimate, 1.0, 0.15);
+}
+
+TEST(BubblePacker, ImplicitCylinderWithUserCurves)
+{
+  Implicit_domain domain = implicit_domain(cylinder_function);
+  // the two rims as closed polylines (first point repeated: a loop)
+  std::vector<std::vector<Point_3>> rims(2);
+  const int n = 256;
+  for(int r = 0; r < 2; ++r)
+    for(int k = 0; k <= n; ++k) {
+      const double a = 2 * 3.14159265358979 * (k % n) / n;
+      rims[r].push_back(Point_3(std::cos(a), std::sin(a), r == 0 ? -1 : 1));
+    }
+  domain.add_features(rims.begin(), rims.end());
+  const double h = 0.25;
+  Constant_field field = Constant_field::isotropic(h);
+  Implicit_packer packer(domain, field);
+  packer.run();
+  print_statistics(packer);
+  std::map<int, std::vector<Vec3>> curve_nodes;
+  std::vector<Vec3> all;
+  double off_surface = 0, outside = -1, off_rim = 0;
+  for(const auto& nd : packer.nodes()) {
+    const Vec3 x = vec(nd.point);
+    all.push_back(x);
+    const double r = std::hypot(x[0], x[1]);
+    if(nd.dimension == 1) {
+      curve_nodes[domain.curve_index(nd.index)].push_back(x);
+      off_rim = std::max(off_rim, std::max(std::abs(std::abs(x[2]) - 1), std::abs(r - 1)));
+    } else if(nd.dimension == 2) {
+      off_surface = std::max(off_surface, std::abs(cylinder_function(nd.point)));
+    } else {
+      EXPECT_EQ(nd.dimension, 3);
+      outside = std::max(outside, cylinder_function(nd.point));
+    }
+  }
+  ASSERT_EQ(curve_nodes.size(), 2u);
+  const double rim_length = 2 * 3.14159265358979 / h;
+  for(const auto& c : curve_nodes) {
+    // equal spacing along the rim: one node per unit metric length
+    EXPECT_NEAR(double(c.second.size()), rim_length, 1.0);
+    double lo = 1e300, hi = 0;
+    for(std::size_t i = 0; i < c.second.size(); ++i) {
+      double nearest = 1e300;
+      for(std::size_t j = 0; j < c.second.size(); ++j)
+        if(j != i)
+          nearest = std::min(nearest, (c.second[j] - c.second[i]).norm() / h);
+      lo = std::min(lo, nearest);
+      hi = std::max(hi, nearest);
+    }
+    std::cout << "    rim " << c.first << ": " << c.second.size() << " nodes (metric length " << rim_length
+              << "), nearest spacing in [" << lo << ", " << hi << "]\n";
+    EXPECT_GE(lo, 0.9);
+    EXPECT_LE(hi, 1.1);
+  }
+  std::mt19937 gen(5);
+  std::vector<Vec3> samples;
+  for(int k = 0; k < 4000; ++k) {
+    const double a = 2 * 3.14159265358979 * uniform_unit(gen), r = std::sqrt(uniform_unit(gen));
+    samples.emplace_back(r * std::cos(a), r * std::sin(a), 2 * uniform_unit(gen) - 1);
+  }
+  const Spacing s = spacing(all, h, samples);
+  const double pi = 3.14159265358979;
+  const double estimate = std::sqrt(2.0) * 2 * pi / (h * h * h) + (6 * pi) / (h * h) / std::sqrt(3.0);
+  std::cout << "    largest |f| on the surface nodes " << off_surface << ", on the rims " << off_rim
+            << ", largest f inside " << outside << "; min pair " << s.min_pair << ", coverage " << s.coverage
+            << ", nodes " << all.size() << " / estimate " << estimate << "\n";
+  EXPECT_LE(off_surface, 1e-6);
+  EXPECT_LE(off_rim, 1e-3); // the polyline's chords
+  EXPECT_LT(outside, 0);
+  EXPECT_GE(s.min_pair, 0.6);
+  EXPECT_LE(s.coverage, 0.75);
+  EXPECT_NEAR(all.size() / estimate, 1.0, 0.15);
 }

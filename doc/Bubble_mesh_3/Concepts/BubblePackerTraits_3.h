@@ -53,6 +53,11 @@ public:
 
   /// the largest displacement of one step, in metric units of the bubble
   double maximum_step() const;
+  /// optional (true when absent): whether the force includes the variation of
+  /// the bubble's own metric with its position (the exact gradient of the pair
+  /// energy, directed along the metric geodesic), or takes the metrics as frozen
+  /// (directed along the chord between the centres)
+  bool metric_gradient_force() const;
   /// overlap `sum_j max(0, 1 - w_ij)` above which a bubble on an entity of dimension `dim` is deleted
   double overlap_deletion_threshold(int dim) const;
   /// a bubble closer than this normalized distance to another one is deleted

@@ -16,7 +16,10 @@
 // Domains whose patches are given as triangles: Polyhedral_mesh_domain_with_features_3
 // (patch ids from detect_features). Other domains (implicit, Labeled_mesh_domain_3
 // with polyline features) give their patches as a triangle soup built from the
-// domain's own intersection oracle (see `Surface_triangulator` below).
+// domain's own inside test and surface-patch oracle (`Surface_triangulator`
+// below); the soup is then only a guide (projection, seeding, distance less a
+// margin) and surface nodes are put on the exact surface at the end of the
+// stage (`exact_surface_point`, bisection with the inside test).
 // Every query is const and thread-safe once the constructor returned.
 #ifndef CGAL_BUBBLE_MESH_3_INTERNAL_PACKING_DOMAIN_ORACLE_H
 #define CGAL_BUBBLE_MESH_3_INTERNAL_PACKING_DOMAIN_ORACLE_H
@@ -32,6 +35,7 @@
 #include <boost/optional.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <map>
@@ -99,9 +103,15 @@ public:
     std::unique_ptr<Tree> tree;
   };
 
-  /// `curve_samples`: samples per curve for the arc-length table (at least)
-  Domain_oracle(const Mesh_domain& domain, std::size_t curve_samples, std::vector<std::pair<Surface_patch_index, std::vector<Triangle_3>>> patches)
-      : domain_(domain)
+  /// `curve_samples`: samples per curve for the arc-length table (at least);
+  /// `patches`: the triangles of every surface patch; `surface_tolerance`: how
+  /// far these triangles may be from the domain's surface (0: they are the
+  /// surface; else distances are reduced by it and surface nodes are moved
+  /// onto the exact surface by `exact_surface_point`)
+  Domain_oracle(const Mesh_domain& domain, std::size_t curve_samples,
+                std::vector<std::pair<Surface_patch_index, std::vector<Triangle_3>>> patches,
+                double surface_tolerance = 0)
+      : domain_(domain), tolerance_(surface_tolerance)
   {
     std::vector<std::pair<Corner_index, Point_3>> corners;
     domain.get_corners(std::back_inserter(corners));
@@ -223,16 +233,44 @@ public:
   }
   bool is_inside(const Vec3& p) const { return bool(subdomain(p)); }
   bool has_distance() const { return !all_triangles_.empty(); }
-  /// Euclidean distance to the boundary surface (0 when unknown)
+  /// Euclidean distance to the boundary surface, a lower bound (0 when unknown)
   double distance_to_boundary(const Vec3& p) const
   {
     if(!has_distance())
       return 0;
-    return std::sqrt(CGAL::to_double(all_tree_->squared_distance(Point_3(p[0], p[1], p[2]))));
+    const double d = std::sqrt(CGAL::to_double(all_tree_->squared_distance(Point_3(p[0], p[1], p[2]))));
+    return std::max(0.0, d - tolerance_);
   }
+
+  /// the surface point of the domain on the line through p along n (unit),
+  /// within `tolerance_` of p (then 2x, 4x); p itself when the triangles are
+  /// the surface or when no crossing is found there
+  Vec3 exact_surface_point(const Vec3& p, const Vec3& n) const
+  {
+    if(!(tolerance_ > 0))
+      return p;
+    for(double r = tolerance_; r <= 4 * tolerance_; r *= 2) {
+      Vec3 a = p - r * n, b = p + r * n;
+      const auto la = subdomain(a);
+      if(la == subdomain(b))
+        continue;
+      // bisection on the inside test, to about 1e-12 of the search length
+      for(int k = 0; k < 42; ++k) {
+        const Vec3 m = 0.5 * (a + b);
+        if(subdomain(m) == la)
+          a = m;
+        else
+          b = m;
+      }
+      return 0.5 * (a + b);
+    }
+    return p;
+  }
+  double surface_tolerance() const { return tolerance_; }
 
 private:
   const Mesh_domain& domain_;
+  double tolerance_ = 0;
   std::vector<Corner> corners_;
   std::vector<Curve> curves_;
   std::vector<Patch> patches_;
@@ -261,6 +299,214 @@ patches_of_polyhedral_domain(const MeshDomain& domain)
     }
   }
   return std::vector<std::pair<Surface_patch_index, std::vector<typename K::Triangle_3>>>(by_id.begin(), by_id.end());
+}
+
+/// Triangle soup of the surface patches of a domain known only through its
+/// inside test (`is_in_domain_object`, which labels points by subdomain) and
+/// `do_intersect_surface_object` (the patch of a crossing segment): marching
+/// tetrahedra on a regular grid over the bounding box (each cube cut into the
+/// six tetrahedra around its main diagonal, so neighbouring cubes match), a
+/// surface point on every grid edge whose end labels differ (bisection), one
+/// or two triangles per tetrahedron whose corners carry two labels, filed
+/// under the patch of that tetrahedron. Tetrahedra with three labels (where
+/// three subdomains meet) are left out: the soup only guides the packing.
+/// The soup is within about one cell of the surface (less on smooth parts).
+template <typename MeshDomain>
+class Surface_triangulator {
+public:
+  typedef typename MeshDomain::R K;
+  typedef typename K::Point_3 Point_3;
+  typedef typename K::Segment_3 Segment_3;
+  typedef typename K::Triangle_3 Triangle_3;
+  typedef typename MeshDomain::Surface_patch_index Surface_patch_index;
+  typedef typename MeshDomain::Subdomain_index Subdomain_index;
+  typedef std::vector<std::pair<Surface_patch_index, std::vector<Triangle_3>>> Result;
+
+  /// `resolution`: grid cells along the longest side of the bounding box
+  Surface_triangulator(const MeshDomain& domain, int resolution) : d_(domain)
+  {
+    const CGAL::Bbox_3 bb = domain.bbox();
+    Vec3 lo(bb.xmin(), bb.ymin(), bb.zmin()), hi(bb.xmax(), bb.ymax(), bb.zmax());
+    const double longest = (hi - lo).maxCoeff();
+    // a margin so that the grid's outer vertices are off a surface that touches the box
+    const double step = longest / std::max(4, resolution);
+    lo -= Vec3::Constant(0.5 * step);
+    hi += Vec3::Constant(0.5 * step);
+    for(int k = 0; k < 3; ++k) {
+      n_[k] = std::max(1, int(std::ceil((hi[k] - lo[k]) / step)));
+      h_[k] = (hi[k] - lo[k]) / n_[k];
+    }
+    lo_ = lo;
+  }
+
+  /// the length of a cell's diagonal
+  double cell_diagonal() const { return h_.norm(); }
+
+  Result run()
+  {
+    const std::size_t nv = std::size_t(n_[0] + 1) * (n_[1] + 1) * (n_[2] + 1);
+    label_.assign(nv, -1);
+    for(int i = 0; i <= n_[0]; ++i)
+      for(int j = 0; j <= n_[1]; ++j)
+        for(int k = 0; k <= n_[2]; ++k)
+          label_[vid(i, j, k)] = label_of(vertex(i, j, k));
+    std::map<Surface_patch_index, std::vector<Triangle_3>> by_patch;
+    // the six tetrahedra of a cube: paths from corner 0 to corner 7 along the axes
+    static const int perm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    for(int i = 0; i < n_[0]; ++i)
+      for(int j = 0; j < n_[1]; ++j)
+        for(int k = 0; k < n_[2]; ++k) {
+          const std::size_t c0 = vid(i, j, k);
+          bool uniform = true;
+          for(int c = 1; c < 8 && uniform; ++c)
+            uniform = label_[vid(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))] == label_[c0];
+          if(uniform)
+            continue;
+          for(const auto& pm : perm) {
+            std::array<int, 3> g = {i, j, k};
+            std::array<std::size_t, 4> t;
+            t[0] = vid(g[0], g[1], g[2]);
+            for(int s = 0; s < 3; ++s) {
+              ++g[pm[s]];
+              t[s + 1] = vid(g[0], g[1], g[2]);
+            }
+            tetrahedron(t, by_patch);
+          }
+        }
+    return Result(by_patch.begin(), by_patch.end());
+  }
+
+private:
+  std::size_t vid(int i, int j, int k) const { return (std::size_t(i) * (n_[1] + 1) + j) * (n_[2] + 1) + k; }
+  Vec3 vertex(int i, int j, int k) const { return lo_ + Vec3(i * h_[0], j * h_[1], k * h_[2]); }
+  Vec3 vertex(std::size_t v) const
+  {
+    const int k = int(v % (n_[2] + 1));
+    const int j = int((v / (n_[2] + 1)) % (n_[1] + 1));
+    const int i = int(v / (std::size_t(n_[2] + 1) * (n_[1] + 1)));
+    return vertex(i, j, k);
+  }
+  boost::optional<Subdomain_index> subdomain(const Vec3& p) const
+  {
+    return d_.is_in_domain_object()(Point_3(p[0], p[1], p[2]));
+  }
+  // -1 outside, else the position of the subdomain in `subdomains_`
+  int label_of(const Vec3& p)
+  {
+    const auto s = subdomain(p);
+    if(!s)
+      return -1;
+    for(std::size_t q = 0; q < subdomains_.size(); ++q)
+      if(subdomains_[q] == *s)
+        return int(q);
+    subdomains_.push_back(*s);
+    return int(subdomains_.size()) - 1;
+  }
+
+  // the surface point on grid edge (a, b), whose labels differ (cached)
+  Vec3 crossing(std::size_t a, std::size_t b)
+  {
+    if(b < a)
+      std::swap(a, b);
+    const auto key = std::make_pair(a, b);
+    const auto it = crossings_.find(key);
+    if(it != crossings_.end())
+      return it->second;
+    Vec3 p = vertex(a), q = vertex(b);
+    const int la = label_[a];
+    for(int k = 0; k < 40; ++k) {
+      const Vec3 m = 0.5 * (p + q);
+      if(label_of(m) == la)
+        p = m;
+      else
+        q = m;
+    }
+    const Vec3 x = 0.5 * (p + q);
+    crossings_.emplace(key, x);
+    return x;
+  }
+
+  void tetrahedron(const std::array<std::size_t, 4>& t, std::map<Surface_patch_index, std::vector<Triangle_3>>& out)
+  {
+    const int l0 = label_[t[0]];
+    int other = l0;
+    std::array<int, 4> side; // 1: label l0
+    int count0 = 0;
+    for(int c = 0; c < 4; ++c) {
+      const int l = label_[t[c]];
+      if(l != l0) {
+        if(other != l0 && l != other)
+          return; // three labels
+        other = l;
+      }
+      side[c] = (l == l0) ? 1 : 0;
+      count0 += side[c];
+    }
+    if(other == l0)
+      return;
+    // the patch of this label pair, from the domain (a segment from an l0 corner to an `other` corner)
+    int a = -1, b = -1;
+    for(int c = 0; c < 4; ++c)
+      (side[c] ? a : b) = c;
+    const Vec3 pa = vertex(t[a]), pb = vertex(t[b]);
+    const auto patch = d_.do_intersect_surface_object()(Segment_3(Point_3(pa[0], pa[1], pa[2]), Point_3(pb[0], pb[1], pb[2])));
+    if(!patch)
+      return;
+    std::vector<Triangle_3>& tri = out[*patch];
+    auto add = [&](const Vec3& x, const Vec3& y, const Vec3& z) {
+      if((y - x).cross(z - x).squaredNorm() > 1e-24 * h_.squaredNorm() * h_.squaredNorm())
+        tri.emplace_back(Point_3(x[0], x[1], x[2]), Point_3(y[0], y[1], y[2]), Point_3(z[0], z[1], z[2]));
+    };
+    if(count0 == 1 || count0 == 3) {
+      // one corner alone on its side: one triangle
+      const int lone_side = count0 == 1 ? 1 : 0;
+      int lone = 0;
+      for(int c = 0; c < 4; ++c)
+        if(side[c] == lone_side)
+          lone = c;
+      std::array<Vec3, 3> p;
+      int m = 0;
+      for(int c = 0; c < 4; ++c)
+        if(c != lone)
+          p[m++] = crossing(t[lone], t[c]);
+      add(p[0], p[1], p[2]);
+    } else {
+      // two and two: a quadrilateral (u0 v0, u0 v1, u1 v1, u1 v0), split in two
+      std::array<int, 2> u, v;
+      int nu = 0, nv = 0;
+      for(int c = 0; c < 4; ++c)
+        (side[c] ? u[nu++] : v[nv++]) = c;
+      const Vec3 q0 = crossing(t[u[0]], t[v[0]]), q1 = crossing(t[u[0]], t[v[1]]),
+                 q2 = crossing(t[u[1]], t[v[1]]), q3 = crossing(t[u[1]], t[v[0]]);
+      add(q0, q1, q2);
+      add(q0, q2, q3);
+    }
+  }
+
+  const MeshDomain& d_;
+  Vec3 lo_, h_;
+  std::array<int, 3> n_;
+  std::vector<int> label_;
+  std::vector<Subdomain_index> subdomains_;
+  std::map<std::pair<std::size_t, std::size_t>, Vec3> crossings_;
+};
+
+/// The patches of any domain as triangles and how far they may be from the
+/// surface: the polyhedral domain's own faces (exact), else the marching
+/// tetrahedra soup of `Surface_triangulator` at `resolution` cells along the
+/// longest side of the bounding box.
+template <typename MeshDomain>
+std::pair<std::vector<std::pair<typename MeshDomain::Surface_patch_index, std::vector<typename MeshDomain::R::Triangle_3>>>,
+          double>
+patches_of_domain(const MeshDomain& domain, int resolution)
+{
+  if constexpr(Has_polyhedra<MeshDomain>::value) {
+    return std::make_pair(patches_of_polyhedral_domain(domain), 0.0);
+  } else {
+    Surface_triangulator<MeshDomain> tri(domain, resolution);
+    auto patches = tri.run();
+    return std::make_pair(std::move(patches), tri.cell_diagonal());
+  }
 }
 
 } // namespace packing

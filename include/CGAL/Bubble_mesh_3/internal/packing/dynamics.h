@@ -17,6 +17,11 @@
 //   bool place(Bubble_record& b, const Vec3& p) const;      // b on the entity near p, false if impossible
 // Refresh (thread-safe, const): void operator()(Bubble_record& b) const; // metric at b.x
 //
+// Force: minus the gradient of the pair energies sum phi(w_ij) (phi' = -f)
+// with respect to the bubble's position, the metrics' own variation included
+// (estimated per bubble from its neighbours' metrics at each list rebuild),
+// mapped to a displacement by the bubble's inverse metric.
+//
 // Bubbles of another entity of the same dimension only repel (w < 1): this
 // keeps apart two curves, or two patches, that meet at a small angle in the
 // metric (a bubble is deleted below the traits' minimum distance).
@@ -34,9 +39,11 @@
 #include <CGAL/Bubble_mesh_3/internal/packing/population_control.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -82,6 +89,21 @@ inline std::uint64_t morton_key(const Vec3& p, const Vec3& lo, double scale)
     for(int d = 0; d < 3; ++d)
       key = (key << 1) | ((c[d] >> bit) & 1);
   return key;
+}
+
+// Traits::metric_gradient_force() when the traits have it, else true.
+template <typename Traits, typename = void>
+struct Has_metric_gradient_force : std::false_type {};
+template <typename Traits>
+struct Has_metric_gradient_force<Traits, std::void_t<decltype(std::declval<const Traits&>().metric_gradient_force())>>
+    : std::true_type {};
+template <typename Traits>
+bool uses_metric_gradient(const Traits& traits)
+{
+  if constexpr(Has_metric_gradient_force<Traits>::value)
+    return bool(traits.metric_gradient_force());
+  else
+    return true;
 }
 
 template <typename Traits, typename Constraint, typename Refresh>
@@ -273,11 +295,69 @@ private:
       hot_[i] = Hot_bubble{b_[i].x, b_[i].m, b_[i].entity, b_[i].fixed ? 1 : 0};
     });
     lists_.build(hot_, has_row_, reach_factor, exec_);
+    if(use_gradient_)
+      estimate_metric_gradients();
     overlap_.assign(n, 0.0);
     nearest_.assign(n, force_.cutoff());
     displacement_.resize(n);
     needs_rebuild_ = false;
     ++rebuilds_;
+  }
+
+  // grad_[i][k] ~ dM/dx_k at moving bubble i: least-squares fit of
+  // M_j - M_i = sum_k (x_j - x_i)_k G_k over its listed neighbours (no field
+  // evaluations; a secant slope over the neighbourhood, which is the scale at
+  // which w is measured). Directions without neighbours (normal to a curve or
+  // a patch) get 0 through a small Tikhonov term: the constraint removes them.
+  void estimate_metric_gradients()
+  {
+    const std::size_t n = b_.size();
+    grad_.resize(n);
+    flat_.assign(n, 1);
+    typedef Eigen::Matrix<double, 6, 1> Vec6;
+    const auto entries = [](const Sym3& m) {
+      Vec6 v;
+      v << m.a00, m.a01, m.a02, m.a11, m.a12, m.a22;
+      return v;
+    };
+    exec_.for_each(n, [&](std::size_t i) {
+      const Hot_bubble& bi = hot_[i];
+      if(bi.fixed)
+        return;
+      // the common case of a locally constant metric costs comparisons only
+      // (the fit below costs identity packings about 15 % of their time)
+      bool flat = true;
+      for(const int* jp = lists_.begin(i); jp != lists_.end(i) && flat; ++jp) {
+        const Sym3& mj = hot_[*jp].m;
+        flat = mj.a00 == bi.m.a00 && mj.a01 == bi.m.a01 && mj.a02 == bi.m.a02 && mj.a11 == bi.m.a11 &&
+               mj.a12 == bi.m.a12 && mj.a22 == bi.m.a22;
+      }
+      if(flat)
+        return;
+      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+      Eigen::Matrix<double, 3, 6> B = Eigen::Matrix<double, 3, 6>::Zero();
+      const Vec6 mi = entries(bi.m);
+      for(const int* jp = lists_.begin(i); jp != lists_.end(i); ++jp) {
+        const Hot_bubble& bj = hot_[*jp];
+        const Vec3 d = bj.x - bi.x;
+        A += d * d.transpose();
+        B += d * (entries(bj.m) - mi).transpose();
+      }
+      flat_[i] = B.isZero(0) ? 1 : 0;
+      if(!(A.trace() > 0) || flat_[i])
+        return;
+      A += (1e-3 * A.trace()) * Eigen::Matrix3d::Identity();
+      const Eigen::Matrix<double, 3, 6> X = A.ldlt().solve(B);
+      for(int k = 0; k < 3; ++k) {
+        Sym3& g = grad_[i][k];
+        g.a00 = X(k, 0);
+        g.a01 = X(k, 1);
+        g.a02 = X(k, 2);
+        g.a11 = X(k, 3);
+        g.a12 = X(k, 4);
+        g.a22 = X(k, 5);
+      }
+    });
   }
 
   // One iteration: forces (Jacobi), integration, constrained moves.
@@ -292,12 +372,21 @@ private:
       if(bi.fixed)
         return;
       // The force is minus the gradient of the pair potentials (phi' = -f) of
-      // w(a, b), metrics frozen, turned into a displacement by M_i^-1:
-      //   F_i = -f(w) (dw/da d / a + dw/db M_i^-1 M_j d / b).
+      // w(a, b) with respect to x_i, turned into a displacement by M_i^-1:
+      //   F_i = -f(w) (dw/da (d - M_i^-1 q / 2) / a + dw/db M_i^-1 M_j d / b),
+      // q_k = d^T (dM_i/dx_k) d: the metric's own variation as bubble i moves.
       // For a constant metric this is -f(w) d / a (the paper's force along the
-      // segment, in metric units); for a varying metric the system stays a
-      // gradient system, hence has no perpetual drift. f: the d / a terms, g: the M_j d terms.
+      // segment, in metric units). Without q (metrics frozen), the pair force
+      // points along the chord, whereas in a graded metric the shortest path
+      // (the geodesic) bends toward the coarse side: the neighbours of a
+      // metric-uniform packing then do not balance (repulsion pushes toward
+      // the coarse side, attraction toward the fine side, by about
+      // f * |grad log h| / 2 per pair), a body force that the second shell's
+      // attraction turns into a steady creep toward the fine end. q restores
+      // the geodesic direction to first order (see doc/design.md).
+      // f: the d / a terms, g: the covector terms (mapped by M_i^-1 at the end).
       Vec3 f = Vec3::Zero(), g = Vec3::Zero();
+      const std::array<Sym3, 3>* G = (use_gradient_ && !flat_[i]) ? &grad_[i] : nullptr;
       double overlap = 0;
       double nearest = cut;
       for(const int* jp = lists_.begin(i); jp != lists_.end(i); ++jp) {
@@ -324,6 +413,10 @@ private:
           const double k = 2 * fw / ((a + b) * (a + b));
           f -= (k * b * b / a) * d;
           g -= (k * a * a / b) * mjd;
+          if(G) {
+            const Vec3 q((*G)[0].squared_length(d), (*G)[1].squared_length(d), (*G)[2].squared_length(d));
+            g += (0.5 * k * b * b / a) * q;
+          }
         } else {
           // coincident centres: a deterministic push, opposite for the pair
           Vec3 e(1, 0.5, 0.25);
@@ -390,6 +483,9 @@ private:
   std::vector<Vec3> anchor_, displacement_;
   std::vector<Hot_bubble> hot_;
   std::vector<Sym3> minv_; // M_i^-1
+  std::vector<std::array<Sym3, 3>> grad_; // dM/dx_k at moving bubbles
+  std::vector<char> flat_;                 // 1: the metric is the same at all listed neighbours (grad_ = 0)
+  bool use_gradient_ = uses_metric_gradient(traits_);
   bool needs_rebuild_ = false;
   std::size_t rebuilds_ = 0;
 };
