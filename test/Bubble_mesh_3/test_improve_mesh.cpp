@@ -34,6 +34,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -291,6 +292,64 @@ std::vector<char> free_vertices(const BM::Indexed_tet_mesh_3& mesh)
   return free;
 }
 
+/// the area of the triangles of each ref
+std::map<int, double> areas_per_ref(const BM::Indexed_tet_mesh_3& mesh)
+{
+  std::map<int, std::vector<double>> terms;
+  for(std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    auto at = [&](int v) {
+      const auto& p = mesh.points[std::size_t(v)];
+      return V3(p[0], p[1], p[2]);
+    };
+    terms[mesh.triangle_refs[i]].push_back(0.5 * (at(t[1]) - at(t[0])).cross(at(t[2]) - at(t[0])).norm());
+  }
+  std::map<int, double> r;
+  for(const auto& kv : terms)
+    r[kv.first] = BM::internal::compensated_sum(kv.second);
+  return r;
+}
+
+/// The largest distance (relative to the bounding box diagonal, beyond
+/// 1e-13) of a vertex of `after` from the plane its triangle had in `before`
+/// or from the line its feature edge had; a triangle that flipped or became
+/// degenerate in its plane counts as 1.
+double boundary_drift(const BM::Indexed_tet_mesh_3& before, const BM::Indexed_tet_mesh_3& after)
+{
+  auto at = [](const BM::Indexed_tet_mesh_3& m, int v) {
+    const auto& p = m.points[std::size_t(v)];
+    return V3(p[0], p[1], p[2]);
+  };
+  V3 lo = at(before, 0), hi = lo;
+  for(std::size_t v = 0; v < before.points.size(); ++v) {
+    lo = lo.cwiseMin(at(before, int(v)));
+    hi = hi.cwiseMax(at(before, int(v)));
+  }
+  const double diagonal = (hi - lo).norm();
+  double drift = 0;
+  auto excess = [&](double d) { return std::max(0.0, d / diagonal - 1e-13); };
+  // (a triangle made by a boundary flip has no "before": its vertices were
+  // in one plane, but not necessarily forming it the same way round)
+  std::set<std::array<int, 3>> old_triangles(before.triangles.begin(), before.triangles.end());
+  for(const auto& t : after.triangles) {
+    const V3 a = at(before, t[0]), b = at(before, t[1]), c = at(before, t[2]);
+    const V3 normal = (b - a).cross(c - a).normalized();
+    for(int v : t)
+      drift = std::max(drift, excess(std::abs(normal.dot(at(after, v) - a))));
+    const V3 moved = (at(after, t[1]) - at(after, t[0])).cross(at(after, t[2]) - at(after, t[0]));
+    if(!(moved.norm() > 0) || (old_triangles.count(t) && !(moved.dot(normal) > 0)))
+      drift = 1;
+  }
+  for(const auto& e : after.edges) {
+    const V3 a = at(before, e[0]), d = (at(before, e[1]) - a).normalized();
+    for(int v : e) {
+      const V3 x = at(after, v) - a;
+      drift = std::max(drift, excess((x - x.dot(d) * d).norm()));
+    }
+  }
+  return drift;
+}
+
 // no time limit: the same work whatever the build type or machine load
 BM::Improvement_options deterministic()
 {
@@ -316,23 +375,48 @@ BM::Improvement_report improve_and_check(BM::Indexed_tet_mesh_3& mesh, const Fie
   const BM::Validity_report valid_after = BM::check_validity(mesh, vo);
   EXPECT_TRUE(valid_after.is_valid()) << name << ": " << (valid_after.problems.empty() ? "" : valid_after.problems[0]);
   EXPECT_EQ(valid_after.misoriented_boundary_triangles, 0u);
-  // boundary, features, corners, references unchanged
-  EXPECT_EQ(mesh.triangles, before.triangles);
+  // boundary, features, corners, references unchanged; boundary flips
+  // replace triangles in place, by others covering the same planar quads
+  if(!options.boundary_flips) {
+    EXPECT_EQ(r.boundary_flips, 0u);
+  }
+  if(r.boundary_flips == 0) {
+    EXPECT_EQ(mesh.triangles, before.triangles);
+  }
+  EXPECT_EQ(mesh.triangles.size(), before.triangles.size());
   EXPECT_EQ(mesh.triangle_refs, before.triangle_refs);
+  {
+    const std::map<int, double> area_before = areas_per_ref(before), area_after = areas_per_ref(mesh);
+    double total = 0;
+    for(const auto& kv : area_before)
+      total += kv.second;
+    for(const auto& kv : area_before)
+      EXPECT_NEAR(area_after.at(kv.first), kv.second, 1e-12 * total) << name << ": area of patch " << kv.first;
+  }
   EXPECT_EQ(mesh.edges, before.edges);
   EXPECT_EQ(mesh.edge_refs, before.edge_refs);
   EXPECT_EQ(mesh.corners, before.corners);
   EXPECT_EQ(mesh.point_refs, before.point_refs);
   EXPECT_EQ(mesh.points.size(), before.points.size());
   EXPECT_EQ(mesh.tets.size(), mesh.tet_refs.size());
-  // only free points moved
+  // free points moved anywhere; boundary points only in the planes of
+  // their triangles and along the lines of their feature edges; corners not
   const std::vector<char> free = free_vertices(before);
-  std::size_t moved = 0;
+  std::size_t moved = 0, moved_on_boundary = 0;
   for(std::size_t v = 0; v < mesh.points.size(); ++v)
     if(mesh.points[v] != before.points[v]) {
       ++moved;
-      EXPECT_TRUE(free[v]) << name << ": fixed vertex " << v << " moved";
+      moved_on_boundary += free[v] ? 0 : 1;
+      EXPECT_TRUE(free[v] || options.boundary_smoothing) << name << ": fixed vertex " << v << " moved";
     }
+  for(int c : before.corners)
+    EXPECT_EQ(mesh.points[std::size_t(c)], before.points[std::size_t(c)]) << name << ": corner " << c << " moved";
+  if(moved_on_boundary > 0 || r.boundary_flips > 0) {
+    EXPECT_EQ(boundary_drift(before, mesh), 0.0) << name << ": a boundary point left its plane or line";
+  }
+  if(!options.boundary_smoothing) {
+    EXPECT_EQ(moved_on_boundary, 0u);
+  }
   // volumes, per subdomain
   const Volumes vol_after = volumes(mesh);
   EXPECT_NEAR(vol_after.total, vol_before.total, 1e-12 * vol_before.absolute) << name;
@@ -351,12 +435,12 @@ BM::Improvement_report improve_and_check(BM::Indexed_tet_mesh_3& mesh, const Fie
 
   std::printf("[%s] %zu pts, %zu -> %zu tets: worst %.2f -> %.2f, p01 %.2f -> %.2f, mean %.2f -> %.2f, "
               "below %.0f: %zu -> %zu\n"
-              "    2-3 %zu, 3-2 %zu, 4-4 %zu, n-to-2n-4 %zu, smoothing %zu (%zu points moved), passes %d, %.3f s "
-              "(%.3f s per 10k tets)\n",
+              "    2-3 %zu, 3-2 %zu, 4-4 %zu, n-to-2n-4 %zu, smoothing %zu (%zu points moved, %zu on the boundary; "
+              "sliver moves %zu), boundary flips %zu, slivers %zu -> %zu, passes %d, %.3f s (%.3f s per 10k tets)\n",
               name.c_str(), mesh.points.size(), r.tets_before, r.tets_after, r.worst_before, r.worst_after,
               r.p01_before, r.p01_after, r.mean_before, r.mean_after, options.target_angle, r.below_target_before,
               r.below_target_after, r.flips_2_3, r.flips_3_2, r.flips_4_4, r.edge_removals, r.smoothing_moves, moved,
-              r.passes, r.seconds, r.seconds * 1e4 / double(std::max<std::size_t>(1, r.tets_before)));
+              moved_on_boundary, r.sliver_moves, r.boundary_flips, r.slivers_before, r.slivers_after, r.passes, r.seconds, r.seconds * 1e4 / double(std::max<std::size_t>(1, r.tets_before)));
   return r;
 }
 
@@ -619,6 +703,264 @@ TEST(ImproveMesh, BoundaryEdgeIsNeverRemoved)
 }
 
 // ---------------------------------------------------------------------------
+// (d) boundary smoothing: planes, straight feature lines
+
+TEST(ImproveMesh, BoundarySmoothingInPlanesAndAlongFeatureLines)
+{
+  // random points on the cube's faces and edges make poor boundary
+  // triangles; with boundary smoothing their vertices slide in the faces
+  // and along the edges (improve_and_check: in their planes and on their
+  // lines, corners fixed, volume to 1e-12)
+  const BM::Indexed_tet_mesh_3 input = cube_with_boundary_points(4, 20, 400, 11);
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.15));
+  BM::Indexed_tet_mesh_3 fixed = input, sliding = input;
+  BM::Improvement_options off = deterministic();
+  off.boundary_smoothing = false;
+  const BM::Improvement_report r_off = improve_and_check(fixed, field, "boundary fixed", off);
+  EXPECT_EQ(r_off.boundary_moves, 0u);
+  const BM::Improvement_report r_on = improve_and_check(sliding, field, "boundary sliding");
+  EXPECT_GT(r_on.boundary_moves, 0u);
+  EXPECT_GT(r_on.worst_after, r_off.worst_after + 5);
+  // vertices of feature edges (not corners) moved, along their edge
+  std::set<int> on_features;
+  for(const auto& e : input.edges)
+    for(int v : e)
+      if(v >= 8)
+        on_features.insert(v);
+  std::size_t moved_on_features = 0;
+  for(int v : on_features) {
+    const auto& a = input.points[std::size_t(v)];
+    const auto& b = sliding.points[std::size_t(v)];
+    if(a == b)
+      continue;
+    ++moved_on_features;
+    int changed = 0;
+    for(int k = 0; k < 3; ++k)
+      changed += a[std::size_t(k)] != b[std::size_t(k)] ? 1 : 0;
+    EXPECT_EQ(changed, 1) << "a cube-edge vertex left its axis-parallel line";
+  }
+  EXPECT_GT(moved_on_features, 0u);
+}
+
+TEST(ImproveMesh, BoundarySmoothingInATiltedPlane)
+{
+  // the prism 0 <= z <= x <= 1, 0 <= y <= 1: the face z = x is not
+  // axis-parallel (its points (a, b, a) are exactly coplanar); projected
+  // moves stay in it up to rounding
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  std::vector<V3> points{V3(0, 0, 0), V3(1, 0, 0), V3(1, 0, 1), V3(0, 1, 0), V3(1, 1, 0), V3(1, 1, 1)};
+  const std::size_t first_tilted = points.size();
+  for(int i = 0; i < 60; ++i) {
+    const double a = u(rng);
+    points.push_back(V3(a, u(rng), a));
+  }
+  const std::size_t end_tilted = points.size();
+  for(int i = 0; i < 40; ++i)
+    points.push_back(V3(u(rng), u(rng), 0)); // bottom
+  for(int i = 0; i < 300; ++i) {
+    const double x = u(rng);
+    points.push_back(V3(x, u(rng), x * (0.05 + 0.9 * u(rng))));
+  }
+  BM::Indexed_tet_mesh_3 mesh = delaunay_mesh(points);
+  const BM::Indexed_tet_mesh_3 input = mesh;
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.15));
+  const BM::Improvement_report r = improve_and_check(mesh, field, "tilted plane");
+  EXPECT_GT(r.boundary_moves, 0u);
+  std::size_t moved_tilted = 0;
+  for(std::size_t v = first_tilted; v < end_tilted; ++v)
+    if(mesh.points[v] != input.points[v]) {
+      ++moved_tilted;
+      EXPECT_NEAR(mesh.points[v][0], mesh.points[v][2], 1e-15) << "left the plane z = x";
+    }
+  EXPECT_GT(moved_tilted, 0u);
+}
+
+TEST(ImproveMesh, BoundaryTwoTwoFlipInAPlane)
+{
+  // a pyramid on the planar kite (0,0,0) (1,-0.3,0) (2,0,0) (1,0.3,0) with
+  // its apex above: two tets, split along one diagonal or the other; the
+  // improver must reach the better split from the worse one (a boundary
+  // 2-2 flip: the bottom triangles change, the bottom face does not)
+  const std::vector<std::array<double, 3>> p{{{0, 0, 0}}, {{1, -0.3, 0}}, {{2, 0, 0}}, {{1, 0.3, 0}}, {{1, 0.05, 0.4}}};
+  BM::Indexed_tet_mesh_3 ac, bd;
+  ac.points = bd.points = p;
+  ac.tets = {{{0, 1, 2, 4}}, {{0, 2, 3, 4}}}; // diagonal 0-2
+  bd.tets = {{{0, 1, 3, 4}}, {{1, 2, 3, 4}}}; // diagonal 1-3
+  for(BM::Indexed_tet_mesh_3* m : {&ac, &bd}) {
+    for(auto& t : m->tets)
+      if(BM::signed_volume(p[std::size_t(t[0])], p[std::size_t(t[1])], p[std::size_t(t[2])], p[std::size_t(t[3])]) < 0)
+        std::swap(t[0], t[1]);
+    m->tet_refs = {1, 1};
+    boundary_from_tets(*m);
+    m->point_refs.assign(5, 0);
+  }
+  CGAL::Constant_metric_field_3<K> field(identity_metric);
+  const double q_ac = BM::compute_quality_report(ac, field).min_dihedral.worst;
+  const double q_bd = BM::compute_quality_report(bd, field).min_dihedral.worst;
+  ASSERT_NE(q_ac, q_bd);
+  BM::Improvement_options options = deterministic();
+  options.target_angle = 90;
+  options.smoothing = false;
+  BM::Indexed_tet_mesh_3 worse = q_ac < q_bd ? ac : bd;
+  const BM::Indexed_tet_mesh_3 kept = worse;
+  const BM::Improvement_report r = improve_and_check(worse, field, "boundary 2-2 flip", options);
+  EXPECT_EQ(r.boundary_flips, 1u);
+  EXPECT_DOUBLE_EQ(r.worst_after, std::max(q_ac, q_bd));
+  // without boundary flips nothing can change
+  BM::Indexed_tet_mesh_3 same = kept;
+  options.boundary_flips = false;
+  const BM::Improvement_report r_off = improve_and_check(same, field, "no boundary flips", options);
+  EXPECT_EQ(r_off.boundary_flips, 0u);
+  EXPECT_EQ(same.tets, kept.tets);
+  // a feature edge on the diagonal forbids the flip
+  BM::Indexed_tet_mesh_3 feature = kept;
+  feature.edges = {{{q_ac < q_bd ? 0 : 1, q_ac < q_bd ? 2 : 3}}};
+  feature.edge_refs = {1};
+  options.boundary_flips = true;
+  const BM::Improvement_report r_feature = improve_and_check(feature, field, "diagonal is a feature", options);
+  EXPECT_EQ(r_feature.boundary_flips, 0u);
+}
+
+TEST(ImproveMesh, CurvedBoundaryVerticesDoNotMove)
+{
+  // points on a sphere: no boundary vertex has coplanar faces, none may move
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g;
+  std::vector<V3> points;
+  for(int i = 0; i < 150; ++i)
+    points.push_back(V3(g(rng), g(rng), g(rng)).normalized());
+  std::uniform_real_distribution<double> u(-0.55, 0.55);
+  for(int i = 0; i < 300; ++i)
+    points.push_back(V3(u(rng), u(rng), u(rng)));
+  BM::Indexed_tet_mesh_3 mesh = delaunay_mesh(points);
+  const BM::Indexed_tet_mesh_3 input = mesh;
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.2));
+  const BM::Improvement_report r = improve_and_check(mesh, field, "sphere");
+  EXPECT_EQ(r.boundary_moves, 0u);
+  for(std::size_t v = 0; v < 150; ++v)
+    EXPECT_EQ(mesh.points[v], input.points[v]);
+}
+
+// ---------------------------------------------------------------------------
+// (e) slivers and nearly flat tets
+
+TEST(ImproveMesh, PerturbedLatticeFullOfSlivers)
+{
+  // a cubic lattice perturbed by 1e-3: nearly cospherical everywhere, so its
+  // Delaunay tetrahedralisation is full of slivers; all must go
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  std::vector<V3> points;
+  const int n = 8;
+  for(int i = 0; i <= n; ++i)
+    for(int j = 0; j <= n; ++j)
+      for(int k = 0; k <= n; ++k) {
+        V3 p = V3(i, j, k) / n;
+        const bool boundary = i == 0 || j == 0 || k == 0 || i == n || j == n || k == n;
+        if(!boundary)
+          p += V3(u(rng), u(rng), u(rng));
+        points.push_back(p);
+      }
+  BM::Indexed_tet_mesh_3 mesh = delaunay_mesh(points);
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(1.0 / n));
+  const BM::Improvement_report r = improve_and_check(mesh, field, "perturbed lattice");
+  EXPECT_GT(r.slivers_before, 100u);
+  EXPECT_EQ(r.slivers_after, 0u);
+  EXPECT_GT(r.worst_after, 15.0); // measured 22.4
+}
+
+TEST(ImproveMesh, NearlyFlatLayers)
+{
+  // points on 6 planes z = k/5 (exactly) with in-plane noise: Delaunay
+  // makes flat tets between the layers and inside each one
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<V3> points = cube_corners();
+  for(int k = 0; k <= 5; ++k)
+    for(int i = 0; i < 60; ++i)
+      points.push_back(V3(0.02 + 0.96 * u(rng), 0.02 + 0.96 * u(rng), (k == 0 || k == 5) ? k / 5.0 : k / 5.0 + 1e-9 * u(rng)));
+  BM::Indexed_tet_mesh_3 mesh = delaunay_mesh(points);
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.15));
+  const BM::Improvement_report r = improve_and_check(mesh, field, "nearly flat layers");
+  EXPECT_LT(r.worst_before, 1.0);
+  EXPECT_GT(r.worst_after, 10.0);
+}
+
+TEST(ImproveMesh, SliverMovesAreDeterministicPerSeed)
+{
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(random_cube_points(300, 23));
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.15));
+  BM::Improvement_options options = deterministic();
+  options.flips = false; // smoothing alone leaves slivers for the trial moves
+  BM::Indexed_tet_mesh_3 a = input, b = input, c = input;
+  const BM::Improvement_report ra = improve_and_check(a, field, "sliver moves, seed 0", options);
+  BM::improve_mesh(b, field, options);
+  EXPECT_GT(ra.sliver_moves, 0u);
+  EXPECT_EQ(a.points, b.points);
+  options.random_seed = 99;
+  improve_and_check(c, field, "sliver moves, seed 99", options);
+}
+
+// ---------------------------------------------------------------------------
+// (f) passive exterior (ref 0), as in a C3T3
+
+TEST(ImproveMesh, ExteriorTetsOfRefZeroArePassive)
+{
+  // the inner region x + 0.3 y < 0.6 is the domain (ref 1), the rest is
+  // padding (ref 0): padding tets never change, only stay positive; the
+  // report only counts the domain
+  BM::Indexed_tet_mesh_3 mesh =
+      delaunay_mesh(grid_cube_points(6, 400, 0.05, 9), [](const V3& c) { return c[0] + 0.3 * c[1] < 0.6 ? 1 : 0; });
+  // keep only the interface triangles (ref 2 in delaunay_mesh) as the domain boundary, plus the hull
+  auto padding_of = [](const BM::Indexed_tet_mesh_3& m) {
+    std::vector<std::array<int, 4>> p;
+    for(std::size_t t = 0; t < m.tets.size(); ++t)
+      if(m.tet_refs[t] == 0) {
+        std::array<int, 4> s = m.tets[t];
+        std::sort(s.begin(), s.end());
+        p.push_back(s);
+      }
+    std::sort(p.begin(), p.end());
+    return p;
+  };
+  auto domain_worst = [](const BM::Indexed_tet_mesh_3& m, const CGAL::Constant_metric_field_3<K>& f) {
+    double w = 180;
+    for(std::size_t t = 0; t < m.tets.size(); ++t)
+      if(m.tet_refs[t] != 0) {
+        const auto& T = m.tets[t];
+        w = std::min(w, BM::metric_minimum_dihedral_angle(m.points[std::size_t(T[0])], m.points[std::size_t(T[1])],
+                                                          m.points[std::size_t(T[2])], m.points[std::size_t(T[3])],
+                                                          f(K::Point_3(0, 0, 0))));
+      }
+    return w;
+  };
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.1));
+  const std::vector<std::array<int, 4>> padding = padding_of(mesh);
+  const std::size_t domain_tets = mesh.tets.size() - padding.size();
+  const double worst_before = domain_worst(mesh, field);
+  double absolute = 0;
+  for(const auto& T : mesh.tets)
+    absolute += std::abs(BM::signed_volume(mesh.points[std::size_t(T[0])], mesh.points[std::size_t(T[1])],
+                                           mesh.points[std::size_t(T[2])], mesh.points[std::size_t(T[3])]));
+  const Volumes before = volumes(mesh);
+  BM::Improvement_options options = deterministic();
+  options.ref_0_is_exterior = true;
+  const BM::Improvement_report r = BM::improve_mesh(mesh, field, options);
+  EXPECT_EQ(r.tets_before, domain_tets);
+  EXPECT_DOUBLE_EQ(r.worst_before, worst_before);
+  EXPECT_DOUBLE_EQ(r.worst_after, domain_worst(mesh, field));
+  EXPECT_GT(r.worst_after, r.worst_before);
+  BM::Validity_options vo;
+  vo.require_outward_triangles = true;
+  EXPECT_TRUE(BM::check_validity(mesh, vo).is_valid());
+  EXPECT_TRUE(padding_of(mesh) == padding) << "a padding tet was flipped";
+  const Volumes after = volumes(mesh);
+  for(const auto& kv : before.per_ref)
+    EXPECT_NEAR(after.per_ref.at(kv.first), kv.second, 1e-12 * absolute);
+}
+
+// ---------------------------------------------------------------------------
 // options, determinism
 
 TEST(ImproveMesh, SmoothingOnlyAndFlipsOnly)
@@ -656,6 +998,26 @@ TEST(ImproveMesh, IsDeterministic)
   EXPECT_EQ(a.tets, b.tets);
   EXPECT_EQ(a.tet_refs, b.tet_refs);
   EXPECT_EQ(a.points, b.points);
+}
+
+TEST(ImproveMesh, ShouldStopEndsTheWorkAndAThrowLeavesTheMesh)
+{
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(random_cube_points(400, 31));
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.15));
+  BM::Indexed_tet_mesh_3 full = input, cut = input, thrown = input;
+  const BM::Improvement_report r_full = BM::improve_mesh(full, field, deterministic());
+  EXPECT_FALSE(r_full.time_limit_reached);
+  BM::Improvement_options options = deterministic();
+  int calls = 0;
+  options.should_stop = [&calls]() { return ++calls > 3; };
+  const BM::Improvement_report r_cut = improve_and_check(cut, field, "stopped early", options);
+  EXPECT_TRUE(r_cut.time_limit_reached);
+  EXPECT_LT(r_cut.flips_3_2 + r_cut.flips_4_4 + r_cut.smoothing_moves,
+            r_full.flips_3_2 + r_full.flips_4_4 + r_full.smoothing_moves);
+  options.should_stop = []() -> bool { throw std::runtime_error("interrupted"); };
+  EXPECT_THROW(BM::improve_mesh(thrown, field, options), std::runtime_error);
+  EXPECT_EQ(thrown.tets, input.tets);
+  EXPECT_EQ(thrown.points, input.points);
 }
 
 TEST(ImproveMesh, NothingToDo)

@@ -17,16 +17,21 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <queue>
+#include <random>
 #include <utility>
 #include <vector>
 
 // The driver of improve_mesh(): passes of (1) a flip phase, a worklist of
 // the tets below the target angle, worst first, each removed by the best
 // strictly improving flip among the removals of its six edges (3-2, 4-4,
-// n-to-(2n-4)) and the 2-3 flips of its four faces; (2) a smoothing sweep
-// over the free vertices of the remaining bad tets. The flip phase ends:
+// n-to-(2n-4); boundary flips for boundary edges in a plane) and the 2-3
+// flips of its four faces; (2) a smoothing sweep over the movable vertices
+// (free, or sliding in a boundary plane or along a feature line) of the
+// remaining bad tets, with pushes and seeded random trial moves for sliver
+// vertices that smoothing could not move. The flip phase ends:
 // every flip raises the sorted vector of all qualities lexicographically
 // (it removes a tet of quality m and adds only tets above m), so no
 // configuration repeats. See improve_mesh.h for the documentation.
@@ -45,6 +50,17 @@ struct Improver_settings {
   double target_angle;
   std::size_t maximum_ring_size;
   int smoothing_iterations;
+  /// slide vertices of planar boundary regions and straight feature lines
+  bool boundary_smoothing = true;
+  /// flip boundary edges inside planar regions of one patch
+  bool boundary_flips = true;
+  /// for the vertices of a sliver that smoothing could not move: the push
+  /// off the opposite face, then random trial moves
+  bool sliver_moves = true;
+  int perturbation_trials = 16;
+  unsigned random_seed = 0;
+  /// polled with the clock; true stops the work like the time limit
+  std::function<bool()> should_stop;
 };
 
 struct Improver_counters {
@@ -53,6 +69,13 @@ struct Improver_counters {
   std::size_t flips_4_4 = 0;
   std::size_t edge_removals = 0;
   std::size_t smoothing_moves = 0;
+  /// accepted moves of vertices on a boundary plane or a feature line
+  /// (counted in `smoothing_moves` too)
+  std::size_t boundary_moves = 0;
+  /// boundary flips (2-2, 4-4, ... in a planar region of one patch)
+  std::size_t boundary_flips = 0;
+  /// accepted moves of sliver vertices by the push or by perturbation
+  std::size_t sliver_moves = 0;
   int passes = 0;
   bool time_limit_reached = false;
 };
@@ -86,6 +109,22 @@ inline double fast_minimum_dihedral_angle(const Eigen::Vector3d& a, const Eigen:
   }
   return radians_to_degrees() *
          dihedral_angle_from_normals(n[edge_opposite_faces[best][0]], n[edge_opposite_faces[best][1]]);
+}
+
+/// Whether the tet spanned by the metric edge vectors a, b, c (from its
+/// first vertex) is a sliver: its edges are all of about the same length
+/// (longest / shortest <= 2), yet it is nearly flat (smallest dihedral angle
+/// below 20 degrees and largest above 140): four nearly coplanar vertices,
+/// the shape the (metric) Delaunay criterion does not remove.
+inline bool is_sliver_of_edge_vectors(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c)
+{
+  const double lengths[6] = {a.norm(), b.norm(), c.norm(), (b - a).norm(), (c - a).norm(), (c - b).norm()};
+  const double shortest = *std::min_element(lengths, lengths + 6);
+  const double longest = *std::max_element(lengths, lengths + 6);
+  if(!(longest <= 2 * shortest))
+    return false;
+  const std::array<double, 6> angles = dihedral_angles_of_edge_vectors(a, b, c);
+  return *std::min_element(angles.begin(), angles.end()) < 20 && *std::max_element(angles.begin(), angles.end()) > 140;
 }
 
 /// The quality of a tet: its minimum dihedral angle (degrees) after mapping
@@ -134,6 +173,17 @@ public:
                                                   map_by_upper(q, p3 - p0));
   }
 
+  /// `is_sliver_of_edge_vectors()` in the metric at the centroid
+  bool is_sliver(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                 const Eigen::Vector3d& p3) const
+  {
+    const Eigen::Vector3d c = 0.25 * (p0 + p1 + p2 + p3);
+    const auto& m = field_(Field_point(c[0], c[1], c[2]));
+    const Metric_3& metric = m;
+    const Eigen::Matrix3d& q = metric.Q();
+    return is_sliver_of_edge_vectors(map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0), map_by_upper(q, p3 - p0));
+  }
+
   Metric_3 metric_at(const Eigen::Vector3d& p) const
   {
     const auto& m = field_(Field_point(p[0], p[1], p[2]));
@@ -167,11 +217,33 @@ public:
   {
     std::vector<double> values;
     for(std::size_t t = 0; t < m_.tets.size(); ++t)
-      if(m_.alive[t]) {
+      if(m_.alive[t] && !m_.is_passive(int(t))) {
         const Tet& T = m_.tets[t];
         values.push_back(quality_.reference(P(T[0]), P(T[1]), P(T[2]), P(T[3])));
       }
     return values;
+  }
+
+  /// the number of slivers (`is_sliver_of_edge_vectors()`) among the
+  /// current tets
+  std::size_t number_of_slivers() const
+  {
+    std::size_t n = 0;
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && !m_.is_passive(int(t))) {
+        const Tet& T = m_.tets[t];
+        n += quality_.is_sliver(P(T[0]), P(T[1]), P(T[2]), P(T[3])) ? 1 : 0;
+      }
+    return n;
+  }
+
+  /// tets that are not passive
+  std::size_t number_of_active_tets() const
+  {
+    std::size_t n = 0;
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      n += m_.alive[t] && !m_.is_passive(int(t)) ? 1 : 0;
+    return n;
   }
 
   double elapsed_seconds() const
@@ -227,12 +299,21 @@ private:
     std::vector<int> old_tets;
     std::vector<Tet> new_tets;
     int ref = 0;
+    /// a boundary flip: the boundary faces it replaces and creates, and the
+    /// old edge (a, b) and the new one (c, d) as {a, b, c, d}
+    bool boundary = false;
+    std::array<std::array<int, 3>, 2> old_faces{}, new_faces{};
+    std::array<int, 4> edge_vertices{};
   };
 
   const Eigen::Vector3d& P(int v) const { return m_.points[std::size_t(v)]; }
 
+  /// the quality of slot `t`; +infinity for a passive (exterior) tet, so
+  /// that it is never bad and never the worst of anything
   double tet_quality(int t) const
   {
+    if(m_.is_passive(t))
+      return std::numeric_limits<double>::infinity();
     const Tet& T = m_.tets[std::size_t(t)];
     return quality_(P(T[0]), P(T[1]), P(T[2]), P(T[3]));
   }
@@ -281,6 +362,7 @@ private:
     best.new_worst = w;
     best.old_worst = old_worst;
     best.is_edge_removal = false;
+    best.boundary = false;
     best.ring_size = 0;
     best.old_tets = {t, s};
     best.new_tets = {n0, n1, n2};
@@ -289,14 +371,13 @@ private:
 
   /// Edge removal: the n tets around the interior edge (a, b) are replaced
   /// by the 2n-4 tets joining a and b to the triangles of the best
-  /// triangulation of the ring polygon p_0 .. p_{n-1}, found by the classic
-  /// O(n^3) dynamic programme over its sub-polygons p_i .. p_j, maximising
-  /// the smallest quality. The triangle (p_i, p_k, p_j), i < k < j, gives
-  /// the tets (a, p_i, p_k, p_j) and (b, p_i, p_j, p_k).
+  /// triangulation of the ring polygon p_0 .. p_{n-1} (`best_ring_triangulation()`).
   void consider_edge_removal(int t, int a, int b, Flip& best)
   {
-    if(m_.is_protected_edge(a, b))
+    if(m_.is_protected_edge(a, b)) {
+      consider_boundary_flip(t, a, b, best);
       return;
+    }
     if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring_, ring_tets_))
       return;
     const int ref = m_.refs[std::size_t(t)];
@@ -306,8 +387,103 @@ private:
         return;
       old_worst = std::min(old_worst, q_[std::size_t(s)]);
     }
-    const int n = int(ring_.size());
     const double bar = std::max(old_worst, best.new_worst);
+    double result = 0;
+    int top = -1;
+    if(!best_ring_triangulation(a, b, bar, result, scratch_tets_, top))
+      return;
+    best.new_worst = result;
+    best.old_worst = old_worst;
+    best.is_edge_removal = true;
+    best.boundary = false;
+    best.ring_size = ring_.size();
+    best.old_tets = ring_tets_;
+    best.new_tets = scratch_tets_;
+    best.ref = ref;
+  }
+
+  /// Boundary flip (2-2, 4-4, ...: the boundary analogue of edge removal):
+  /// the boundary edge (a, b) whose two boundary faces (a, b, p_0) and
+  /// (a, b, p_k) lie exactly in one plane, in one patch, and which is no
+  /// feature edge, is replaced by the edge (p_0, p_k): the k tets of its open
+  /// fan p_0 .. p_k become the 2k-2 tets joining a and b to the best
+  /// triangulation of the polygon p_0 .. p_k, whose chord (p_0, p_k) gives
+  /// the new boundary faces (a, p_0, p_k) and (b, p_k, p_0). The quad
+  /// a, p_0, b, p_k is then convex (the new tets are positive), so the
+  /// boundary covers the same planar region. Only for faces of one tet (not
+  /// interfaces, not next to passive padding) and without duplicate listed
+  /// triangles.
+  void consider_boundary_flip(int t, int a, int b, Flip& best)
+  {
+    if(!s_.boundary_flips || m_.has_duplicate_triangles || m_.is_feature_edge(a, b))
+      return;
+    if(!m_.edge_fan(a, b, s_.maximum_ring_size - 1, ring_, ring_tets_))
+      return;
+    const int n = int(ring_.size());
+    const int p0 = ring_.front(), pk = ring_.back();
+    if(!m_.is_protected_face(a, b, p0) || !m_.is_protected_face(a, b, pk))
+      return;
+    for(int i = 1; i + 1 < n; ++i)
+      if(m_.is_protected_face(a, b, ring_[std::size_t(i)]))
+        return;
+    const int ref = m_.refs[std::size_t(t)];
+    double old_worst = std::numeric_limits<double>::infinity();
+    for(int s : ring_tets_) {
+      if(m_.refs[std::size_t(s)] != ref)
+        return;
+      old_worst = std::min(old_worst, q_[std::size_t(s)]);
+    }
+    const double bar = std::max(old_worst, best.new_worst);
+    if(m_.opposite_tet(ring_tets_.front(), a, b, p0) >= 0 || m_.opposite_tet(ring_tets_.back(), a, b, pk) >= 0)
+      return; // an interface
+    if(m_.face_patch(a, b, p0) != m_.face_patch(a, b, pk))
+      return;
+    if(exact_orientation(P(a), P(b), P(p0), P(pk)) != CGAL::COPLANAR)
+      return;
+    if(m_.are_connected(p0, pk))
+      return;
+    double result = 0;
+    int top = -1;
+    if(!best_ring_triangulation(a, b, bar, result, scratch_tets_, top))
+      return;
+    // the old faces as stored (listed orientation), the new ones oriented
+    // like them with respect to the inside
+    auto stored = [&](int x, int y, int z) {
+      const int i = m_.listed_triangle(x, y, z);
+      return i < 0 ? std::array<int, 3>{{x, y, z}} : m_.listed[std::size_t(i)];
+    };
+    const std::array<int, 3> old0 = stored(a, b, p0), old1 = stored(a, b, pk);
+    const int apex_old0 = ring_[1], apex_old1 = ring_[std::size_t(n - 2)], apex_new = ring_[std::size_t(top)];
+    auto oriented_like = [&](std::array<int, 3> f, int apex_f, const std::array<int, 3>& old, int apex_old) {
+      if(exact_orientation(P(f[0]), P(f[1]), P(f[2]), P(apex_f)) !=
+         exact_orientation(P(old[0]), P(old[1]), P(old[2]), P(apex_old)))
+        std::swap(f[0], f[1]);
+      return f;
+    };
+    best.new_worst = result;
+    best.old_worst = old_worst;
+    best.is_edge_removal = true;
+    best.boundary = true;
+    best.ring_size = std::size_t(n);
+    best.old_tets = ring_tets_;
+    best.new_tets = scratch_tets_;
+    best.ref = ref;
+    best.old_faces = {{old0, old1}};
+    best.new_faces = {{oriented_like({{a, p0, pk}}, apex_new, old0, apex_old0),
+                       oriented_like({{b, p0, pk}}, apex_new, old1, apex_old1)}};
+    best.edge_vertices = {{a, b, p0, pk}};
+  }
+
+  /// The triangulation of the polygon `ring_` = p_0 .. p_{n-1} that
+  /// maximises the smallest quality of the tets joining a and b to its
+  /// triangles, by the classic O(n^3) dynamic programme over the
+  /// sub-polygons p_i .. p_j: the triangle (p_i, p_k, p_j), i < k < j, gives
+  /// the tets (a, p_i, p_k, p_j) and (b, p_i, p_j, p_k). True if its smallest
+  /// quality `result` is above `bar`; then `tets` holds the 2n-4 tets and
+  /// `top` the k of the triangle on the chord (p_0, p_{n-1}).
+  bool best_ring_triangulation(int a, int b, double bar, double& result, std::vector<Tet>& tets, int& top)
+  {
+    const int n = int(ring_.size());
     const double unknown = std::numeric_limits<double>::quiet_NaN();
     // triangle qualities, computed on demand; -1: invalid or not above `bar`
     triangle_.assign(std::size_t(n * n * n), unknown);
@@ -346,17 +522,11 @@ private:
         table_[std::size_t(i * n + j)] = best_value;
         choice_[std::size_t(i * n + j)] = best_k;
       }
-    const double result = table_[std::size_t(n - 1)];
+    result = table_[std::size_t(n - 1)];
     if(!(result > bar))
-      return;
-    best.new_worst = result;
-    best.old_worst = old_worst;
-    best.is_edge_removal = true;
-    best.ring_size = std::size_t(n);
-    best.old_tets = ring_tets_;
-    best.new_tets.clear();
-    best.ref = ref;
-    // reconstruct the triangulation
+      return false;
+    top = choice_[std::size_t(n - 1)];
+    tets.clear();
     std::vector<std::pair<int, int>> stack{{0, n - 1}};
     while(!stack.empty()) {
       const auto [i, j] = stack.back();
@@ -365,11 +535,12 @@ private:
         continue;
       const int k = choice_[std::size_t(i * n + j)];
       const int pi = ring_[std::size_t(i)], pk = ring_[std::size_t(k)], pj = ring_[std::size_t(j)];
-      best.new_tets.push_back(Tet{{a, pi, pk, pj}});
-      best.new_tets.push_back(Tet{{b, pi, pj, pk}});
+      tets.push_back(Tet{{a, pi, pk, pj}});
+      tets.push_back(Tet{{b, pi, pj, pk}});
       stack.push_back({i, k});
       stack.push_back({k, j});
     }
+    return true;
   }
 
   void apply(const Flip& flip)
@@ -379,15 +550,23 @@ private:
       for(int v : m_.tets[std::size_t(s)])
         vertex_changed_[std::size_t(v)] = clock_;
     const std::vector<int> created = m_.replace(flip.old_tets, flip.new_tets, flip.ref);
+    if(flip.boundary) {
+      const auto& e = flip.edge_vertices;
+      m_.replace_boundary_faces(flip.old_faces[0], flip.old_faces[1], flip.new_faces[0], flip.new_faces[1], e[0], e[1],
+                                e[2], e[3]);
+      ++c_.boundary_flips;
+    }
     q_.resize(m_.tets.size());
     tet_tried_.resize(m_.tets.size(), -1);
     for(int s : created)
       tet_tried_[std::size_t(s)] = -1;
     for(int s : created)
-      q_[std::size_t(s)] = quality_of(m_.tets[std::size_t(s)]);
+      q_[std::size_t(s)] = tet_quality(s);
     for(int s : created)
       push_if_bad(s);
-    if(!flip.is_edge_removal)
+    if(flip.boundary) {
+      // counted above
+    } else if(!flip.is_edge_removal)
       ++c_.flips_2_3;
     else if(flip.ring_size == 3)
       ++c_.flips_3_2;
@@ -399,22 +578,35 @@ private:
 
   // ---- smoothing ------------------------------------------------------------
 
-  /// Moves the free vertex `v` to raise the smallest quality of its ball:
+  /// Moves the vertex `v` to raise the smallest quality of its ball:
   /// candidates are the (relaxed) mean of the ideal positions over the
   /// ball's opposite faces, then steepest-ascent steps of the max-min
   /// problem (direction: the smallest vector of the convex hull of the
   /// gradients of the nearly worst tets), in the coordinates `y = Q x` of the
-  /// metric at `v`, with a halving line search. A move is accepted only if
-  /// every ball tet stays positively oriented (exact) and the smallest
-  /// quality of the ball increases.
+  /// metric at `v`, with a halving line search. If nothing improved and the
+  /// worst tet of the ball is a sliver, the push of `v` off the sliver's
+  /// opposite face (along its metric normal), then random trial moves.
+  /// A vertex with a plane or line constraint moves only in it: every
+  /// candidate is projected, the gradients are projected on the tangent
+  /// space. A move is accepted only if every ball tet (passive ones
+  /// included) stays positively oriented (exact) and the smallest quality
+  /// of the ball increases.
   bool smooth_vertex(int v)
   {
     const std::vector<int> ball = m_.vertex_tets[std::size_t(v)];
     const std::size_t nb = ball.size();
     if(nb == 0)
       return false;
+    const Vertex_constraint& constraint = m_.constraint[std::size_t(v)];
+    const bool constrained = constraint.kind != Vertex_constraint::free;
     // opposite faces with (v, f0, f1, f2) positively oriented, worst first
-    std::vector<std::pair<double, std::array<int, 3>>> faces;
+    // (passive tets, of quality +infinity, last)
+    struct Ball_face {
+      double quality;
+      std::array<int, 3> f;
+      bool passive;
+    };
+    std::vector<Ball_face> faces;
     faces.reserve(nb);
     for(int s : ball) {
       const Tet& T = m_.tets[std::size_t(s)];
@@ -425,17 +617,26 @@ private:
           f[std::size_t(k++)] = u;
       if(permutation_parity(T, v, f[0], f[1], f[2]) != 0)
         std::swap(f[1], f[2]);
-      faces.push_back({q_[std::size_t(s)], f});
+      faces.push_back({q_[std::size_t(s)], f, m_.is_passive(s)});
     }
     std::stable_sort(faces.begin(), faces.end(),
-                     [](const auto& x, const auto& y) { return x.first < y.first; });
-    const double start = faces.front().first;
+                     [](const Ball_face& x, const Ball_face& y) { return x.quality < y.quality; });
+    if(faces.front().passive)
+      return false;
+    const double start = faces.front().quality;
 
-    // smallest quality of the ball with v at x; stops early at <= threshold
+    // smallest quality of the ball with v at x (+infinity from a passive
+    // tet if positive); stops early at <= threshold
     auto evaluate = [&](const Eigen::Vector3d& x, double threshold) {
       double w = std::numeric_limits<double>::infinity();
-      for(const auto& f : faces) {
-        const double q = quality_(x, P(f.second[0]), P(f.second[1]), P(f.second[2]));
+      for(const Ball_face& f : faces) {
+        double q;
+        if(f.passive)
+          q = exact_orientation(x, P(f.f[0]), P(f.f[1]), P(f.f[2])) == CGAL::POSITIVE
+                  ? std::numeric_limits<double>::infinity()
+                  : -1.0;
+        else
+          q = quality_(x, P(f.f[0]), P(f.f[1]), P(f.f[2]));
         w = std::min(w, q);
         if(w <= threshold)
           return w;
@@ -448,22 +649,59 @@ private:
     const Eigen::Matrix3d& Q = metric.Q();
     const Eigen::Matrix3d Q_inverse = metric.Q_inverse();
     double scale = std::numeric_limits<double>::infinity(); // shortest metric edge at v
-    for(const auto& f : faces)
-      for(int u : f.second)
+    for(const Ball_face& f : faces)
+      for(int u : f.f)
         scale = std::min(scale, metric.length(P(u) - x_start));
     if(!(scale > 0 && std::isfinite(scale)))
       return false;
     const double minimum_gain = 1e-3; // degrees: no churn of negligible moves
 
+    // the tangent space of a constrained vertex, orthonormal in y = Q x
+    int tangent_dimension = 3;
+    Eigen::Vector3d tangent[2];
+    if(constrained) {
+      tangent_dimension = constraint.kind == Vertex_constraint::plane ? 2 : 1;
+      for(int i = 0; i < tangent_dimension; ++i) {
+        Eigen::Vector3d e = Q * constraint.tangent[i];
+        for(int j = 0; j < i; ++j)
+          e -= e.dot(tangent[j]) * tangent[j];
+        tangent[i] = e.normalized();
+      }
+    }
+    auto tangential = [&](const Eigen::Vector3d& g) -> Eigen::Vector3d {
+      if(!constrained)
+        return g;
+      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      for(int i = 0; i < tangent_dimension; ++i)
+        r += g.dot(tangent[i]) * tangent[i];
+      return r;
+    };
+    auto project = [&](const Eigen::Vector3d& x) { return constrained ? m_.project(v, x) : x; };
+
     Eigen::Vector3d x = x_start;
     double current = start;
+    auto try_candidate = [&](const Eigen::Vector3d& raw) {
+      const Eigen::Vector3d candidate = project(raw);
+      if(candidate == x || !candidate.allFinite())
+        return false;
+      const double w = evaluate(candidate, current + minimum_gain);
+      if(w > current + minimum_gain) {
+        current = w;
+        x = candidate;
+        return true;
+      }
+      return false;
+    };
 
     // 1. the mean of the ideal apex positions (regular tet on each face)
     {
       const Eigen::Vector3d y_v = Q * x_start;
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for(const auto& f : faces) {
-        const Eigen::Vector3d y0 = Q * P(f.second[0]), y1 = Q * P(f.second[1]), y2 = Q * P(f.second[2]);
+      std::size_t count = 0;
+      for(const Ball_face& f : faces) {
+        if(f.passive)
+          continue;
+        const Eigen::Vector3d y0 = Q * P(f.f[0]), y1 = Q * P(f.f[1]), y2 = Q * P(f.f[2]);
         const Eigen::Vector3d c = (y0 + y1 + y2) / 3;
         Eigen::Vector3d normal = (y1 - y0).cross(y2 - y0);
         const double norm = normal.norm();
@@ -474,16 +712,11 @@ private:
           normal = -normal;
         const double side = ((y1 - y0).norm() + (y2 - y1).norm() + (y0 - y2).norm()) / 3;
         sum += c + std::sqrt(2.0 / 3.0) * side * normal;
+        ++count;
       }
-      const Eigen::Vector3d ideal = Q_inverse * (sum / double(nb));
-      for(double omega : {1.0, 0.5, 0.25}) {
-        const Eigen::Vector3d candidate = x_start + omega * (ideal - x_start);
-        const double w = evaluate(candidate, current + minimum_gain);
-        if(w > current + minimum_gain) {
-          current = w;
-          x = candidate;
-        }
-      }
+      const Eigen::Vector3d ideal = Q_inverse * (sum / double(std::max<std::size_t>(count, 1)));
+      for(double omega : {1.0, 0.5, 0.25})
+        try_candidate(x_start + omega * (ideal - x_start));
     }
 
     // 2. steepest ascent of the smallest quality
@@ -492,7 +725,9 @@ private:
       // qualities at x, and the nearly active tets
       std::vector<std::pair<double, std::size_t>> values;
       for(std::size_t i = 0; i < faces.size(); ++i) {
-        const auto& f = faces[i].second;
+        if(faces[i].passive)
+          continue;
+        const auto& f = faces[i].f;
         values.push_back({quality_(x, P(f[0]), P(f[1]), P(f[2])), i});
       }
       std::sort(values.begin(), values.end());
@@ -501,7 +736,7 @@ private:
       for(const auto& value : values) {
         if(value.first > values.front().first + 1.0 || gradients.size() >= 8)
           break;
-        const auto& f = faces[value.second].second;
+        const auto& f = faces[value.second].f;
         Eigen::Vector3d g;
         for(int axis = 0; axis < 3; ++axis) {
           const Eigen::Vector3d step = Q_inverse.col(axis) * h;
@@ -509,7 +744,7 @@ private:
           const double minus = quality_.unchecked(x - step, P(f[0]), P(f[1]), P(f[2]));
           g[axis] = (plus - minus) / (2 * h);
         }
-        gradients.push_back(g);
+        gradients.push_back(tangential(g));
       }
       if(gradients.empty())
         break;
@@ -519,18 +754,43 @@ private:
         break;
       const Eigen::Vector3d direction = Q_inverse * (d / d_norm);
       bool moved = false;
-      for(double step = 0.25 * scale; step > 1e-4 * scale; step *= 0.5) {
-        const Eigen::Vector3d candidate = x + step * direction;
-        const double w = evaluate(candidate, current + minimum_gain);
-        if(w > current + minimum_gain) {
-          current = w;
-          x = candidate;
-          moved = true;
-          break;
-        }
-      }
+      for(double step = 0.25 * scale; step > 1e-4 * scale && !moved; step *= 0.5)
+        moved = try_candidate(x + step * direction);
       if(!moved)
         break;
+    }
+
+    // 3. a sliver that smoothing could not fix: push v off its opposite
+    //    face, then random trial moves (seeded by the vertex and the clock)
+    std::size_t sliver_move = 0;
+    if(s_.sliver_moves && !(current > start + minimum_gain)) {
+      const auto& f = faces.front().f;
+      if(quality_.is_sliver(x_start, P(f[0]), P(f[1]), P(f[2]))) {
+        const Eigen::Vector3d y0 = Q * P(f[0]), y1 = Q * P(f[1]), y2 = Q * P(f[2]);
+        Eigen::Vector3d normal = tangential((y1 - y0).cross(y2 - y0));
+        if(normal.norm() > 0) {
+          normal.normalize();
+          if(normal.dot(Q * x_start - y0) < 0)
+            normal = -normal;
+          const Eigen::Vector3d direction = Q_inverse * normal;
+          for(double step = 0.3 * scale; step > 0.01 * scale; step *= 0.5)
+            if(try_candidate(x_start + step * direction)) {
+              sliver_move = 1;
+              break;
+            }
+        }
+        std::mt19937 random(s_.random_seed * 2654435761u ^ unsigned(v) * 40503u ^ unsigned(clock_));
+        std::normal_distribution<double> gauss;
+        std::uniform_real_distribution<double> radius(0.02, 0.2);
+        for(int trial = 0; trial < s_.perturbation_trials; ++trial) {
+          Eigen::Vector3d r(gauss(random), gauss(random), gauss(random));
+          r = tangential(r);
+          if(!(r.norm() > 0))
+            continue;
+          if(try_candidate(x + radius(random) * scale * (Q_inverse * r.normalized())))
+            sliver_move = 1;
+        }
+      }
     }
 
     if(!(current > start + minimum_gain) || x == x_start)
@@ -545,6 +805,9 @@ private:
       ++m_.stamp[std::size_t(s)];
     }
     ++c_.smoothing_moves;
+    if(constrained)
+      ++c_.boundary_moves;
+    c_.sliver_moves += sliver_move;
     return true;
   }
 
@@ -586,6 +849,15 @@ private:
     return false;
   }
 
+  /// free, or (with boundary smoothing) constrained to a plane or a line
+  bool movable(int v) const
+  {
+    if(!m_.fixed[std::size_t(v)])
+      return true;
+    const Vertex_constraint::Kind k = m_.constraint[std::size_t(v)].kind;
+    return s_.boundary_smoothing && (k == Vertex_constraint::plane || k == Vertex_constraint::line);
+  }
+
   bool has_bad_tet() const
   {
     for(std::size_t t = 0; t < m_.tets.size(); ++t)
@@ -596,7 +868,8 @@ private:
 
   bool out_of_time()
   {
-    if(!c_.time_limit_reached && elapsed_seconds() > s_.time_limit_seconds)
+    if(!c_.time_limit_reached &&
+       (elapsed_seconds() > s_.time_limit_seconds || (s_.should_stop && s_.should_stop())))
       c_.time_limit_reached = true;
     return c_.time_limit_reached;
   }
@@ -639,7 +912,7 @@ private:
     std::sort(bad.begin(), bad.end());
     for(const auto& b : bad)
       for(int v : m_.tets[std::size_t(b.second)])
-        if(!m_.fixed[std::size_t(v)] && !seen[std::size_t(v)] &&
+        if(movable(v) && !seen[std::size_t(v)] &&
            vertex_tried_[std::size_t(v)] < vertex_changed_[std::size_t(v)]) {
           seen[std::size_t(v)] = 1;
           order.push_back(b);
@@ -686,6 +959,7 @@ private:
   std::vector<long> tet_tried_, vertex_tried_, vertex_changed_;
   // scratch of the edge removal
   std::vector<int> ring_, ring_tets_, choice_;
+  std::vector<Tet> scratch_tets_;
   std::vector<double> triangle_, table_;
 };
 

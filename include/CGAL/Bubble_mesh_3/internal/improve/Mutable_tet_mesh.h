@@ -16,7 +16,9 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -25,8 +27,9 @@
 // frees its slot, new tets reuse freed slots, last freed first), the tets
 // around each vertex, and the protected entities that no operation may
 // change: boundary and interface faces, their edges, feature edges, and the
-// vertices that must not move. Everything here is deterministic: the order
-// of the vertex-to-tet lists only depends on the sequence of operations.
+// vertices that must not move or may only slide in a plane or along a line
+// (`Vertex_constraint`). Everything here is deterministic: the order of the
+// vertex-to-tet lists only depends on the sequence of operations.
 
 namespace CGAL {
 namespace Bubble_mesh_3 {
@@ -89,6 +92,32 @@ struct Edge_key_hash {
   std::size_t operator()(std::uint64_t k) const { return std::size_t(k * 0x9E3779B97F4A7C15ull ^ (k >> 29)); }
 };
 
+/// How a vertex may move. `plane`: every protected face around it lies
+/// exactly in one plane (exact coplanarity of the input doubles), all of one
+/// patch, forming one closed fan, and no feature edge or corner touches it:
+/// it may slide in that plane. `line`: it is on exactly two feature edges,
+/// exactly collinear, and every protected face around it lies in a plane
+/// through that line: it may slide along the line, between its two feature
+/// neighbours. Either way the union of the protected faces (the boundary and
+/// the interfaces as point sets) is unchanged by a move that keeps every tet
+/// positively oriented, up to the rounding of the projected coordinates
+/// (none when the plane or line is axis-parallel: the constant coordinates
+/// are copied).
+struct Vertex_constraint {
+  enum Kind { free, plane, line, fixed };
+  Kind kind = free;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  /// plane: unit normal; line: unit direction
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  /// plane: an orthonormal basis of the plane; line: `tangent[0] == axis`
+  Eigen::Vector3d tangent[2];
+  /// plane: the coordinate held constant if the plane is axis-parallel, else
+  /// -1; line: the coordinate that varies if the line is axis-parallel, else -1
+  int exact_axis = -1;
+  /// line: the two feature neighbours (the move stays strictly between them)
+  int ends[2] = {-1, -1};
+};
+
 /// The mesh being improved.
 class Mutable_tet_mesh {
 public:
@@ -100,7 +129,11 @@ public:
   /// subdomains. Protected edges: the edges of protected faces and the
   /// feature edges. Fixed vertices: the vertices of protected faces and
   /// feature edges, and the corners.
-  explicit Mutable_tet_mesh(const Indexed_tet_mesh_3& mesh)
+  /// If `ref_0_is_exterior`, tets of ref 0 are *passive*: padding outside
+  /// the domain (a C3T3's cells outside the complex), kept positively
+  /// oriented by every move but never flipped or measured.
+  explicit Mutable_tet_mesh(const Indexed_tet_mesh_3& mesh, bool ref_0_is_exterior = false)
+    : exterior_ref_0(ref_0_is_exterior)
   {
     const std::size_t np = mesh.points.size();
     points.resize(np);
@@ -122,19 +155,28 @@ public:
       }
 
     fixed.assign(np, 0);
+    // protected faces with their patch (the triangle ref, or `unlisted`)
+    std::vector<std::pair<Face_key, int>> face_patches;
+    const int unlisted = std::numeric_limits<int>::min();
+    int current_patch = unlisted;
     auto protect_face = [&](int a, int b, int c) {
-      protected_faces.insert(Face_key(a, b, c));
+      if(protected_faces.insert(Face_key(a, b, c)).second)
+        face_patches.push_back({Face_key(a, b, c), current_patch});
       protected_edges.insert(edge_key(a, b));
       protected_edges.insert(edge_key(b, c));
       protected_edges.insert(edge_key(c, a));
       fixed[std::size_t(a)] = fixed[std::size_t(b)] = fixed[std::size_t(c)] = 1;
     };
-    for(const auto& f : mesh.triangles) {
+    for(std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      const auto& f = mesh.triangles[i];
       for(int v : f)
         if(v < 0 || std::size_t(v) >= np)
           throw Invalid_input("improve_mesh: a triangle references a missing point");
+      current_patch = i < mesh.triangle_refs.size() ? mesh.triangle_refs[i] : 0;
       protect_face(f[0], f[1], f[2]);
+      listed_index.emplace(Face_key(f[0], f[1], f[2]), i);
     }
+    current_patch = unlisted;
     // Faces of one tet, or of two tets of different subdomains.
     struct Entry {
       Face_key key;
@@ -166,11 +208,61 @@ public:
       if(e[0] < 0 || std::size_t(e[0]) >= np || e[1] < 0 || std::size_t(e[1]) >= np)
         throw Invalid_input("improve_mesh: a feature edge references a missing point");
       protected_edges.insert(edge_key(e[0], e[1]));
+      feature_edges.insert(edge_key(e[0], e[1]));
       fixed[std::size_t(e[0])] = fixed[std::size_t(e[1])] = 1;
     }
     for(int c : mesh.corners)
       if(c >= 0 && std::size_t(c) < np)
         fixed[std::size_t(c)] = 1;
+    classify_boundary_vertices(mesh, face_patches);
+    listed = mesh.triangles;
+    has_duplicate_triangles = listed_index.size() != listed.size();
+    listed_refs = mesh.triangle_refs;
+    listed_refs.resize(listed.size(), 0);
+  }
+
+  bool is_passive(int t) const { return exterior_ref_0 && refs[std::size_t(t)] == 0; }
+
+  /// `x` moved onto the plane or line of the constraint of `v` (unchanged
+  /// for a free vertex); a line point is clamped strictly between the line's
+  /// current end vertices
+  Eigen::Vector3d project(int v, const Eigen::Vector3d& x) const
+  {
+    const Vertex_constraint& c = constraint[std::size_t(v)];
+    if(c.kind == Vertex_constraint::plane) {
+      Eigen::Vector3d y = x - c.axis * c.axis.dot(x - c.origin);
+      if(c.exact_axis >= 0) {
+        y[c.exact_axis] = c.origin[c.exact_axis];
+      } else {
+        // solve the plane equation for the dominant coordinate: the closest
+        // double to the plane along that axis
+        int k = 0;
+        c.axis.cwiseAbs().maxCoeff(&k);
+        double sum = 0;
+        for(int j = 0; j < 3; ++j)
+          if(j != k)
+            sum += c.axis[j] * (y[j] - c.origin[j]);
+        y[k] = c.origin[k] - sum / c.axis[k];
+      }
+      return y;
+    }
+    if(c.kind == Vertex_constraint::line) {
+      double t = c.axis.dot(x - c.origin);
+      double t0 = c.axis.dot(points[std::size_t(c.ends[0])] - c.origin);
+      double t1 = c.axis.dot(points[std::size_t(c.ends[1])] - c.origin);
+      if(t0 > t1)
+        std::swap(t0, t1);
+      const double margin = 0.01 * (t1 - t0);
+      t = std::min(std::max(t, t0 + margin), t1 - margin);
+      Eigen::Vector3d y = c.origin + t * c.axis;
+      if(c.exact_axis >= 0) {
+        const double moving = y[c.exact_axis];
+        y = c.origin;
+        y[c.exact_axis] = moving;
+      }
+      return y;
+    }
+    return x;
   }
 
   /// writes the tets (in slot order) and the points back
@@ -188,6 +280,58 @@ public:
       }
     if(!had_refs)
       mesh.tet_refs.clear();
+    if(listed != mesh.triangles) { // boundary flips replaced some
+      mesh.triangles = listed;
+      mesh.triangle_refs.resize(listed.size());
+      for(std::size_t i = 0; i < listed.size(); ++i)
+        mesh.triangle_refs[i] = listed_refs[i];
+    }
+  }
+
+  bool is_feature_edge(int a, int b) const { return feature_edges.count(edge_key(a, b)) != 0; }
+
+  /// the listed triangle on these vertices (its position), or -1
+  int listed_triangle(int a, int b, int c) const
+  {
+    const auto it = listed_index.find(Face_key(a, b, c));
+    return it == listed_index.end() ? -1 : int(it->second);
+  }
+
+  /// The patch of a protected boundary face: the ref of its listed triangle,
+  /// or `unlisted_patch` for an unlisted one.
+  int face_patch(int a, int b, int c) const
+  {
+    const int i = listed_triangle(a, b, c);
+    return i < 0 ? unlisted_patch : listed_refs[std::size_t(i)];
+  }
+  static constexpr int unlisted_patch = std::numeric_limits<int>::min();
+
+  /// After a boundary flip that replaced the boundary faces `old0`, `old1`
+  /// (sharing the edge (a, b)) by `new0`, `new1` (sharing (c, d)), in the
+  /// same plane and patch: updates the protected faces and edges and the
+  /// listed triangles (each new one takes the slot of an old one, oriented
+  /// like it: `new0`, `new1` must be given in the orientation to store).
+  void replace_boundary_faces(const std::array<int, 3>& old0, const std::array<int, 3>& old1,
+                              const std::array<int, 3>& new0, const std::array<int, 3>& new1, int a, int b, int c,
+                              int d)
+  {
+    const std::array<int, 3>* olds[2] = {&old0, &old1};
+    const std::array<int, 3>* news[2] = {&new0, &new1};
+    for(int k = 0; k < 2; ++k) {
+      const Face_key key_old((*olds[k])[0], (*olds[k])[1], (*olds[k])[2]);
+      const Face_key key_new((*news[k])[0], (*news[k])[1], (*news[k])[2]);
+      protected_faces.erase(key_old);
+      protected_faces.insert(key_new);
+      const auto it = listed_index.find(key_old);
+      if(it != listed_index.end()) {
+        const std::size_t slot = it->second;
+        listed_index.erase(it);
+        listed[slot] = *news[k];
+        listed_index.emplace(key_new, slot);
+      }
+    }
+    protected_edges.erase(edge_key(a, b));
+    protected_edges.insert(edge_key(c, d));
   }
 
   bool is_protected_face(int a, int b, int c) const { return protected_faces.count(Face_key(a, b, c)) != 0; }
@@ -281,6 +425,71 @@ public:
     return current == ring[0];
   }
 
+  /// The open fan of the boundary edge (a, b): fan vertices p_0 .. p_k and
+  /// the tets t_i = (a, b, p_i, p_{i+1}) (up to an even permutation), i < k,
+  /// every `orientation(a, b, p_i, p_{i+1})` positive; (a, b, p_0) and
+  /// (a, b, p_k) are then faces of one tet each. Returns false if the tets
+  /// around the edge are not one open fan, or more than `max_size`.
+  bool edge_fan(int a, int b, std::size_t max_size, std::vector<int>& fan, std::vector<int>& fan_tets) const
+  {
+    fan.clear();
+    fan_tets.clear();
+    std::vector<std::array<int, 3>> links;
+    for(int s : vertex_tets[std::size_t(a)]) {
+      const Tet& T = tets[std::size_t(s)];
+      if(!has_vertex(T, b))
+        continue;
+      int x = -1, y = -1;
+      for(int v : T)
+        if(v != a && v != b)
+          (x < 0 ? x : y) = v;
+      if(permutation_parity(T, a, b, x, y) != 0)
+        std::swap(x, y);
+      links.push_back({{x, y, s}});
+      if(links.size() > max_size)
+        return false;
+    }
+    const std::size_t n = links.size();
+    if(n < 2)
+      return false;
+    // the start: the x that is no link's y
+    std::size_t start = n;
+    for(std::size_t i = 0; i < n; ++i) {
+      bool is_target = false;
+      for(std::size_t j = 0; j < n && !is_target; ++j)
+        is_target = links[j][1] == links[i][0];
+      if(!is_target) {
+        if(start != n)
+          return false; // two fans
+        start = i;
+      }
+    }
+    if(start == n)
+      return false; // closed: an interior edge
+    std::vector<char> used(n, 0);
+    used[start] = 1;
+    fan.push_back(links[start][0]);
+    fan_tets.push_back(links[start][2]);
+    int current = links[start][1];
+    for(std::size_t k = 1; k < n; ++k) {
+      std::size_t found = n;
+      for(std::size_t i = 0; i < n; ++i)
+        if(!used[i] && links[i][0] == current) {
+          if(found != n)
+            return false;
+          found = i;
+        }
+      if(found == n)
+        return false;
+      used[found] = 1;
+      fan.push_back(current);
+      fan_tets.push_back(links[found][2]);
+      current = links[found][1];
+    }
+    fan.push_back(current);
+    return current != fan[0];
+  }
+
   /// Removes the tets `old_tets` and adds `new_tets`, all with subdomain
   /// `ref`. Returns the slots of the new tets.
   std::vector<int> replace(const std::vector<int>& old_tets, const std::vector<Tet>& new_tets, int ref)
@@ -337,6 +546,169 @@ public:
   std::unordered_set<Face_key, Face_key_hash> protected_faces;
   std::unordered_set<std::uint64_t, Edge_key_hash> protected_edges;
   std::vector<char> fixed;
+  /// feature edges (also in `protected_edges`)
+  std::unordered_set<std::uint64_t, Edge_key_hash> feature_edges;
+  /// the listed triangles and their refs (boundary flips replace some), and
+  /// the position of each
+  std::vector<std::array<int, 3>> listed;
+  std::vector<int> listed_refs;
+  std::unordered_map<Face_key, std::size_t, Face_key_hash> listed_index;
+  /// a face listed twice (then no boundary flips: both copies would have to change)
+  bool has_duplicate_triangles = false;
+  /// what a fixed vertex may still do (free vertices: `free`)
+  std::vector<Vertex_constraint> constraint;
+  bool exterior_ref_0 = false;
+
+private:
+  /// P(v) as an exact point
+  Exact_point X(int v) const
+  {
+    const Eigen::Vector3d& p = points[std::size_t(v)];
+    return Exact_point(p[0], p[1], p[2]);
+  }
+
+  /// fills `constraint` (see `Vertex_constraint`); exact predicates only
+  void classify_boundary_vertices(const Indexed_tet_mesh_3& mesh,
+                                  const std::vector<std::pair<Face_key, int>>& face_patches)
+  {
+    const std::size_t np = points.size();
+    constraint.assign(np, Vertex_constraint());
+    std::vector<std::vector<std::size_t>> faces_at(np);
+    for(std::size_t i = 0; i < face_patches.size(); ++i)
+      for(int v : face_patches[i].first.v)
+        faces_at[std::size_t(v)].push_back(i);
+    std::vector<std::vector<int>> feature_neighbours(np);
+    for(const auto& e : mesh.edges)
+      if(e[0] != e[1]) {
+        feature_neighbours[std::size_t(e[0])].push_back(e[1]);
+        feature_neighbours[std::size_t(e[1])].push_back(e[0]);
+      }
+    std::vector<char> corner(np, 0);
+    for(int c : mesh.corners)
+      if(c >= 0 && std::size_t(c) < np)
+        corner[std::size_t(c)] = 1;
+    std::vector<std::pair<int, int>> link; // the other two vertices of each face at v
+    for(std::size_t v = 0; v < np; ++v) {
+      if(!fixed[v])
+        continue;
+      Vertex_constraint& c = constraint[v];
+      c.kind = Vertex_constraint::fixed;
+      if(corner[v] || faces_at[v].empty() || vertex_tets[v].empty())
+        continue;
+      link.clear();
+      for(std::size_t i : faces_at[v]) {
+        const auto& f = face_patches[i].first.v;
+        int a = -1, b = -1;
+        for(int u : f)
+          if(u != int(v))
+            (a < 0 ? a : b) = u;
+        link.push_back({a, b});
+      }
+      // one closed fan: every link vertex is on exactly two faces
+      std::vector<int> ends;
+      for(const auto& l : link) {
+        ends.push_back(l.first);
+        ends.push_back(l.second);
+      }
+      std::sort(ends.begin(), ends.end());
+      bool closed = true;
+      for(std::size_t i = 0; i < ends.size(); i += 2)
+        closed = closed && i + 1 < ends.size() && ends[i] == ends[i + 1] && (i + 2 >= ends.size() || ends[i + 2] != ends[i]);
+      if(!closed || !is_one_cycle(link))
+        continue;
+      const Exact_point pv = X(int(v));
+      const std::vector<int>& fn = feature_neighbours[v];
+      if(fn.empty()) {
+        const int patch = face_patches[faces_at[v].front()].second;
+        bool same_patch = true;
+        for(std::size_t i : faces_at[v])
+          same_patch = same_patch && face_patches[i].second == patch;
+        if(!same_patch)
+          continue;
+        // the plane of the first face; every face vertex must lie on it
+        const Exact_point pa = X(link[0].first), pb = X(link[0].second);
+        if(CGAL::collinear(pv, pa, pb))
+          continue;
+        bool planar = true;
+        for(const auto& l : link)
+          planar = planar && CGAL::orientation(pv, pa, pb, X(l.first)) == CGAL::COPLANAR &&
+                   CGAL::orientation(pv, pa, pb, X(l.second)) == CGAL::COPLANAR;
+        if(!planar)
+          continue;
+        c.kind = Vertex_constraint::plane;
+        c.origin = points[v];
+        c.axis = (points[std::size_t(link[0].first)] - points[v]).cross(points[std::size_t(link[0].second)] - points[v]);
+        c.axis.normalize();
+        c.exact_axis = -1;
+        for(int k = 0; k < 3 && c.exact_axis < 0; ++k) {
+          bool constant = true;
+          for(const auto& l : link)
+            constant = constant && points[std::size_t(l.first)][k] == points[v][k] &&
+                       points[std::size_t(l.second)][k] == points[v][k];
+          if(constant) {
+            c.exact_axis = k;
+            c.axis = Eigen::Vector3d::Unit(k);
+          }
+        }
+        c.tangent[0] = c.axis.unitOrthogonal();
+        c.tangent[1] = c.axis.cross(c.tangent[0]);
+      } else if(fn.size() == 2 && fn[0] != fn[1]) {
+        const Exact_point pa = X(fn[0]), pb = X(fn[1]);
+        if(!CGAL::collinear(pa, pv, pb) || !CGAL::collinear_are_strictly_ordered_along_line(pa, pv, pb))
+          continue; // not straight, or v is not between its neighbours
+        // every face around v in a plane through the line
+        bool through = true;
+        for(const auto& l : link) {
+          const Exact_point pl = X(l.first), pm = X(l.second);
+          through = through && CGAL::orientation(pv, pl, pm, pa) == CGAL::COPLANAR &&
+                    CGAL::orientation(pv, pl, pm, pb) == CGAL::COPLANAR;
+        }
+        if(!through)
+          continue;
+        c.kind = Vertex_constraint::line;
+        c.origin = points[v];
+        c.axis = (points[std::size_t(fn[1])] - points[std::size_t(fn[0])]).normalized();
+        c.ends[0] = fn[0];
+        c.ends[1] = fn[1];
+        c.exact_axis = -1;
+        int constant = 0, moving = -1;
+        for(int k = 0; k < 3; ++k) {
+          if(points[std::size_t(fn[0])][k] == points[v][k] && points[std::size_t(fn[1])][k] == points[v][k])
+            ++constant;
+          else
+            moving = k;
+        }
+        if(constant == 2) {
+          c.exact_axis = moving;
+          c.axis = Eigen::Vector3d::Unit(moving);
+        }
+        c.tangent[0] = c.axis;
+        c.tangent[1] = Eigen::Vector3d::Zero();
+      }
+    }
+  }
+
+  /// true if the link edges (pairs of vertices) form a single cycle
+  static bool is_one_cycle(const std::vector<std::pair<int, int>>& link)
+  {
+    if(link.size() < 3)
+      return false;
+    std::vector<char> used(link.size(), 0);
+    used[0] = 1;
+    const int start = link[0].first;
+    int current = link[0].second;
+    for(std::size_t k = 1; k < link.size(); ++k) {
+      std::size_t found = link.size();
+      for(std::size_t i = 0; i < link.size() && found == link.size(); ++i)
+        if(!used[i] && (link[i].first == current || link[i].second == current))
+          found = i;
+      if(found == link.size())
+        return false;
+      used[found] = 1;
+      current = link[found].first == current ? link[found].second : link[found].first;
+    }
+    return current == start;
+  }
 };
 
 } // namespace improve
