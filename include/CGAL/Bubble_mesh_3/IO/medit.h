@@ -140,7 +140,8 @@ public:
     const std::string_view token = require(what);
     const char* b = token.data();
     const char* e = b + token.size();
-    if(b != e && *b == '+')
+    // from_chars takes no '+': skip one, but not before another sign ("+-1")
+    if(b != e && *b == '+' && (b + 1 == e || (b[1] != '-' && b[1] != '+')))
       ++b;
     double value = 0;
     const std::from_chars_result r = std::from_chars(b, e, value);
@@ -156,7 +157,7 @@ public:
     const std::string_view token = require(what);
     const char* b = token.data();
     const char* e = b + token.size();
-    if(b != e && *b == '+')
+    if(b != e && *b == '+' && (b + 1 == e || (b[1] != '-' && b[1] != '+')))
       ++b;
     long long value = 0;
     const std::from_chars_result r = std::from_chars(b, e, value);
