@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -28,6 +29,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -724,6 +726,391 @@ TEST(Surface, BadSurfacesAreRefusedWithTheReason)
   }
   const std::string missing = scratch("missing.off");
   expect_error<BM::Invalid_file>([&] { BM::IO::read_triangle_surface<K>(missing); }, {missing, "cannot open"});
+}
+
+// The tetrahedron and the unit cube of the format tests, faces oriented outward.
+const double tet_points[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+const int tet_faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+const double cube_points[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                  {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const int cube_faces[12][3] = {{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                               {2, 3, 7}, {2, 7, 6}, {1, 2, 6}, {1, 6, 5}, {0, 4, 7}, {0, 7, 3}};
+
+// Reads `path` and expects the tetrahedron (cube = false) or the cube: same
+// points (as a set), same counts, outward, volume 1/6 or 1.
+void expect_tet_or_cube(const std::string& path, bool cube)
+{
+  SCOPED_TRACE(path);
+  BM::IO::Surface_check_report report;
+  CGAL::Surface_mesh<Point_3> m;
+  try {
+    m = BM::IO::read_triangle_surface<K>(path, &report);
+  } catch(const std::exception& e) {
+    FAIL() << e.what();
+  }
+  const std::size_t nv = cube ? 8 : 4, nf = cube ? 12 : 4;
+  EXPECT_EQ(m.number_of_vertices(), nv);
+  EXPECT_EQ(m.number_of_faces(), nf);
+  EXPECT_FALSE(report.reoriented_faces);
+  EXPECT_EQ(report.reversed_components, 0u);
+  EXPECT_NEAR(report.volume, cube ? 1.0 : 1.0 / 6, 1e-12);
+  std::vector<std::array<double, 3>> got, expected;
+  for(auto v : m.vertices())
+    got.push_back({{m.point(v).x(), m.point(v).y(), m.point(v).z()}});
+  for(std::size_t i = 0; i < nv; ++i) {
+    const double* p = cube ? cube_points[i] : tet_points[i];
+    expected.push_back({{p[0], p[1], p[2]}});
+  }
+  std::sort(got.begin(), got.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(got, expected);
+}
+
+// Little- or big-endian bytes of a scalar.
+template <typename T>
+void put(std::string& s, T value, bool big_endian)
+{
+  typedef typename std::conditional<
+      sizeof(T) == 1, std::uint8_t,
+      typename std::conditional<sizeof(T) == 2, std::uint16_t,
+                                typename std::conditional<sizeof(T) == 4, std::uint32_t, std::uint64_t>::type>::type>::type
+      U;
+  U u;
+  std::memcpy(&u, &value, sizeof u);
+  for(std::size_t i = 0; i < sizeof u; ++i)
+    s += static_cast<char>((u >> (8 * (big_endian ? sizeof u - 1 - i : i))) & 0xff);
+}
+
+// An OFF file of the tetrahedron: `keyword`, then every vertex line gets
+// `vertex_extra`, every face line `face_extra`; coordinates times `w` with
+// `w` written as a fourth coordinate if `homogeneous`.
+std::string tet_off(const std::string& keyword, const std::string& vertex_extra, const std::string& face_extra,
+                    bool homogeneous = false, const std::string& eol = "\n")
+{
+  std::ostringstream o;
+  o << keyword << eol << "4 4 0" << eol;
+  for(const auto& p : tet_points) {
+    const double w = homogeneous ? 2 : 1;
+    o << p[0] * w << ' ' << p[1] * w << ' ' << p[2] * w << (homogeneous ? " 2" : "") << vertex_extra << eol;
+  }
+  for(const auto& f : tet_faces)
+    o << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << face_extra << eol;
+  return o.str();
+}
+
+std::string binary_stl(const double (*points)[3], const int (*faces)[3], std::size_t n, const std::string& header)
+{
+  std::string b = header;
+  b.resize(80, ' ');
+  put(b, std::uint32_t(n), false);
+  for(std::size_t f = 0; f < n; ++f) {
+    for(int k = 0; k < 3; ++k)
+      put(b, 0.0f, false); // normal
+    for(int k = 0; k < 3; ++k)
+      for(int c = 0; c < 3; ++c)
+        put(b, float(points[faces[f][k]][c]), false);
+    put(b, std::uint16_t(0), false);
+  }
+  return b;
+}
+
+// A binary PLY cube with an element before the vertices, extra vertex and
+// face properties, coordinates of three types and an element after the faces.
+std::string binary_ply_cube(bool big_endian, const char* indices_name = "vertex_indices")
+{
+  std::string h = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                  " 1.0\ncomment written by test_io\nobj_info cube\n"
+                  "element material 2\nproperty uchar red\nproperty list uchar float coefficients\n"
+                  "element vertex 8\nproperty float x\nproperty uint8 confidence\nproperty double y\n"
+                  "property short z\nproperty list int ushort neighbours\n"
+                  "element face 12\nproperty int8 tag\nproperty list uchar uint " +
+                  indices_name + "\nproperty float32 quality\nelement edge 1\nproperty int vertex1\nproperty int32 vertex2\n"
+                                 "end_header\n";
+  std::string b = h;
+  for(int i = 0; i < 2; ++i) {
+    put(b, std::uint8_t(200), big_endian);
+    put(b, std::uint8_t(2), big_endian);
+    put(b, 0.5f, big_endian);
+    put(b, -1.5f, big_endian);
+  }
+  for(const auto& p : cube_points) {
+    put(b, float(p[0]), big_endian);
+    put(b, std::uint8_t(7), big_endian);
+    put(b, double(p[1]), big_endian);
+    put(b, std::int16_t(p[2]), big_endian);
+    put(b, std::int32_t(1), big_endian);
+    put(b, std::uint16_t(3), big_endian);
+  }
+  for(const auto& f : cube_faces) {
+    put(b, std::int8_t(-1), big_endian);
+    put(b, std::uint8_t(3), big_endian);
+    for(int k = 0; k < 3; ++k)
+      put(b, std::uint32_t(f[k]), big_endian);
+    put(b, 0.25f, big_endian);
+  }
+  put(b, std::int32_t(0), big_endian);
+  put(b, std::int32_t(1), big_endian);
+  return b;
+}
+
+TEST(Surface, ReadsEveryFormatAndVariant)
+{
+  struct Case {
+    const char* file;
+    std::string text;
+    bool cube;
+  };
+  std::vector<Case> cases = {
+    {"plain.off", tetrahedron_off, false},
+    {"comments_face_colours.off",
+     "# written by hand\nOFF # keyword\n\n4 4 0 # vertices faces edges\n# the vertices\n" + [] {
+       std::string v;
+       for(const auto& p : tet_points)
+         v += std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "   # a vertex\n";
+       return v;
+     }() + "3 0 2 1 255 0 0\n3 0 1 3 0.5 0.5 0.5 1\n\n# faces\n3 1 2 3 7\n3 0 3 2\n# end\n",
+     false},
+    {"colours.off", tet_off("COFF", " 255 0 0 255", ""), false},
+    {"colour_index.off", tet_off("COFF", " 3", ""), false},
+    {"normals.off", tet_off("NOFF", " 0 0 1", ""), false},
+    {"normals_colours.off", tet_off("CNOFF", " 0 0 1 0.1 0.2 0.3 1", " 255 255 0"), false},
+    {"texture.off", tet_off("STOFF", " 0.5 0.25", ""), false},
+    {"homogeneous.off", tet_off("4OFF", "", "", true), false},
+    {"dimension.off", tet_off("nOFF\n3", "", ""), false},
+    {"crlf_counts_on_keyword_line.off", [] {
+       std::string t = tet_off("OFF", "", "", false, "\r\n");
+       return t.replace(t.find("\r\n"), 2, " "); // "OFF 4 4 0\r\n..."
+     }(),
+     false},
+    {"no_keyword.off", tetrahedron_off.substr(4), false},
+    {"slashes_negative.obj",
+     "# tetrahedron\nmtllib t.mtl\no tet\ng all\nv 0 0 0\nv 1 0 0 1.0\nv 0 1 0\nv 0 0 1\n"
+     "vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\ns off\nusemtl red\n"
+     "f 1/1/1 3/3/1 2/2/1\nf 1//1 2//1 4//1\nf -3/1 -2/2 -1/3\nf -4 -1 -2 # relative\n",
+     false},
+    {"binary.stl", binary_stl(tet_points, tet_faces, 4, "binary tetrahedron"), false},
+    {"binary_header_solid.stl", binary_stl(tet_points, tet_faces, 4, "solid but binary"), false},
+    {"binary_cube.stl", binary_stl(cube_points, cube_faces, 12, ""), true},
+    {"upper_case_two_solids.stl", [] {
+       std::string t = "SOLID cube\r\n";
+       for(int f = 0; f < 12; ++f) {
+         if(f == 6)
+           t += "ENDSOLID cube\r\nsolid second half\r\n";
+         t += "  FACET NORMAL 0 0 0\r\n    OUTER LOOP\r\n";
+         for(int k = 0; k < 3; ++k) {
+           const double* p = cube_points[cube_faces[f][k]];
+           t += "      VERTEX " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) +
+                "\r\n";
+         }
+         t += "    ENDLOOP\r\n  ENDFACET\r\n";
+       }
+       return t + "ENDSOLID\r\n";
+     }(),
+     true},
+    {"ascii.ply",
+     "ply\nformat ascii 1.0\ncomment extra properties and elements\nelement vertex 4\n"
+     "property float x\nproperty float y\nproperty double z\nproperty uchar red\nproperty list uchar float extra\n"
+     "element face 4\nproperty list uchar int vertex_indices\nproperty int flags\n"
+     "element edge 2\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+     "0 0 0 255 0\n1 0 0 255 2 0.5 0.5\n0 1 0 0 1 7\n0 0 1 0 0\n"
+     "3 0 2 1 0\n3 0 1 3 0\n3 1 2 3 1\n3 0 3 2 1\n0 1\n1 2\n",
+     false},
+    {"little_endian.ply", binary_ply_cube(false), true},
+    {"big_endian.ply", binary_ply_cube(true, "vertex_index"), true},
+  };
+  for(const Case& c : cases) {
+    const std::string path = scratch(c.file);
+    write_text(path, c.text);
+    expect_tet_or_cube(path, c.cube);
+  }
+  // the existing tetrahedron as ASCII STL with every corner written 3 times
+  // gives 4 vertices: checked in ReadsClosedTriangleSurfaces
+}
+
+TEST(Surface, MalformedAndTruncatedFilesAreRefusedWithThePlace)
+{
+  struct Case {
+    const char* file;
+    std::string text;
+    std::vector<std::string> needles;
+  };
+  const std::string v4 = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string f4 = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+  const std::string ascii_ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+                                "end_header\n" + v4 + f4;
+  const std::string cube_le = binary_ply_cube(false);
+  const std::string ascii_stl = [] {
+    std::string t = "solid t\n";
+    for(const auto& f : tet_faces) {
+      t += "facet normal 0 0 0\nouter loop\n";
+      for(int v : f)
+        t += "vertex " + std::to_string(tet_points[v][0]) + " " + std::to_string(tet_points[v][1]) + " " +
+             std::to_string(tet_points[v][2]) + "\n";
+      t += "endloop\nendfacet\n";
+    }
+    return t + "endsolid t\n";
+  }();
+  // binary PLY whose only face announces 2^32 - 1 indices
+  std::string huge_list = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
+                          "property float y\nproperty float z\nelement face 1\n"
+                          "property list uint int vertex_indices\nend_header\n";
+  for(int k = 0; k < 3; ++k)
+    put(huge_list, 1.0f, false);
+  put(huge_list, std::uint32_t(0xffffffffu), false);
+  put(huge_list, std::int32_t(0), false);
+  std::string negative_index = binary_ply_cube(false);
+  {
+    negative_index.replace(negative_index.find("uchar uint"), 10, "uchar int"); // signed indices
+    // first index of the first face (after the header, 2 materials of 10
+    // bytes, 8 vertices of 21 bytes, the tag and the count of face 0)
+    const std::size_t at = negative_index.find("end_header\n") + 11 + 2 * 10 + 8 * 21 + 2;
+    std::string minus_one;
+    put(minus_one, std::int32_t(-1), false);
+    negative_index.replace(at, 4, minus_one);
+  }
+  std::string nan_ply = binary_ply_cube(false);
+  {
+    std::string nan;
+    put(nan, std::numeric_limits<float>::quiet_NaN(), false);
+    nan_ply.replace(nan_ply.find("end_header\n") + 11 + 2 * 10 + 21, 4, nan); // x of vertex 1
+  }
+  const std::vector<Case> cases = {
+    // the classes that crashed, hung or exhausted memory in CGAL 5.5's readers
+    {"property_first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n",
+     {"cannot parse as ply", "line 3", "'property' before any 'element'"}},
+    {"colour_token.off", "COFF\n4 4 0\n0 0 0 abc\n1 0 0 1 0 0 1\n0 1 0 1 0 0 1\n0 0 1 1 0 0 1\n" + f4,
+     {"cannot parse as off", "line 3", "unexpected 'abc' after the coordinates of vertex 0"}},
+    {"colour_count.off", "COFF 5 4 1 5 4\n5 1 2 3 4 5\n1 2 3\n4 5 6\n7 8 9\n1 1 1\n",
+     {"cannot parse as off", "line 1", "unexpected '5' after the counts"}},
+    {"huge_list.ply", huge_list, {"cannot parse as ply", "binary_little_endian", "announces 4294967295 entries"}},
+    {"truncated_header.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\nprop",
+     {"cannot parse as ply", "no 'end_header'"}},
+    {"huge_counts.off", "OFF\n2000000000 2000000000 0\n0 0 0\n",
+     {"cannot parse as off", "line 2", "announces 2000000000 vertices and 2000000000 faces, more than the"}},
+    {"count_1e308.off", "OFF\n1e308 4 0\n" + v4 + f4, {"line 2", "expected the vertex count", "'1e308'"}},
+    {"count_negative.off", "OFF\n4 -3 0\n" + v4 + f4, {"line 2", "expected the face count", "'-3'"}},
+    {"face_size_negative.off", "OFF\n4 4 0\n" + v4 + "-3 0 1 2\n" + f4.substr(8),
+     {"line 7", "expected the number of vertices of face 0", "'-3'"}},
+    {"face_size_1e308.off", "OFF\n4 4 0\n" + v4 + "3 0 2 1\n1e308 0 1 3\n" + f4.substr(16),
+     {"line 8", "vertices of face 1", "'1e308'"}},
+    {"index_negative.off", "OFF\n4 4 0\n" + v4 + "3 0 -3 1\n" + f4.substr(8),
+     {"line 7", "vertex indices for face 0", "'-3'"}},
+    {"index_overflow.off", "OFF\n4 4 0\n" + v4 + "3 0 1 18446744073709551616\n" + f4.substr(8),
+     {"line 7", "'18446744073709551616'"}},
+    {"index_out_of_range.off", "OFF\n4 4 0\n" + v4 + "3 0 2 4\n" + f4.substr(8),
+     {"line 7", "face 0 (0-based) has vertex index 4 out of range [0, 4)"}},
+    {"face_too_long.off", "OFF\n4 4 0\n" + v4 + "4000000000 0 1 2\n" + f4.substr(8),
+     {"line 7", "announces 4000000000 vertices, more than its line holds"}},
+    {"binary.off", "OFF BINARY\n\x00\x00\x00\x04", {"cannot parse as off", "binary OFF is not supported"}},
+    {"bad_keyword.off", "MESH\n4 4 0\n" + v4 + f4, {"line 1", "expected an OFF header keyword", "'MESH'"}},
+    {"dimension_4.off", "nOFF 4\n4 4 0\n", {"line 1", "dimension 4 is not supported"}},
+    {"w_zero.off", "4OFF\n4 4 0\n0 0 0 0\n" + v4 + f4, {"line 3", "homogeneous coordinate w = 0"}},
+    {"infinite.off", "OFF\n4 4 0\n0 0 0\n1e999 0 0\n0 1 0\n0 0 1\n" + f4,
+     {"line 4", "vertex 1 (0-based) has a non-finite coordinate '1e999'"}},
+    {"extra_counts.off", "OFF\n4 4 0 9\n" + v4 + f4, {"line 2", "unexpected '9' after the counts"}},
+    {"comments_only.off", "# nothing\n\n", {"cannot parse as off", "no OFF header"}},
+    {"bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", {"cannot parse as obj", "line 4", "malformed face vertex 'x'"}},
+    {"zero_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", {"line 4", "vertex index 0", "start at 1"}},
+    {"relative_before_first.obj", "v 0 0 0\nv 1 0 0\nf 1 2 -3\n", {"line 3", "relative vertex index -3", "before the first"}},
+    {"index_out_of_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+     {"face 0 (0-based) refers to vertex 4 (1-based), but the file defines 3 vertices"}},
+    {"bad_coordinate.obj", "v 0 0 zero\n", {"line 1", "expected 3 coordinates for vertex 1", "'zero'"}},
+    {"nan.obj", "v 0 nan 0\n", {"line 1", "non-finite coordinate 'nan'"}},
+    {"no_solid.stl", "facet normal 0 0 0\n", {"cannot parse as stl", "does not start with 'solid'", "84-byte header"}},
+    {"text_not_solid.stl", std::string(200, 'x'), {"does not start with 'solid'", "bytes, but the file has 200 bytes"}},
+    {"bad_keyword.stl", "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendfacet\n",
+     {"line 7", "expected 'endloop' in facet 0", "'endfacet'"}},
+    {"bad_number.stl", "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 one 0\n",
+     {"line 6", "expected a vertex coordinate in facet 0", "'one'"}},
+    {"after_endsolid.stl", ascii_stl + "garbage\n", {"unexpected 'garbage' after 'endsolid'"}},
+    {"unknown_type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n",
+     {"line 4", "unknown property type 'real'"}},
+    {"no_format.ply", "ply\nelement vertex 0\nend_header\n", {"no 'format' line"}},
+    {"no_y.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float z\nend_header\n0 0\n",
+     {"line 3", "no property 'y'"}},
+    {"no_indices.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+                       "element face 0\nproperty list uchar int vertex_list\nend_header\n",
+     {"line 7", "no 'vertex_indices'"}},
+    {"huge_element.ply", "ply\nformat binary_big_endian 1.0\nelement vertex 3000000000\nproperty float x\n"
+                         "property float y\nproperty float z\nend_header\n" + std::string(24, '\0'),
+     {"line 3", "element 'vertex' announces 3000000000 items of at least 12 bytes, more than the 24 bytes"}},
+    {"negative_index.ply", negative_index, {"binary_little_endian", "face 0 (0-based) has a negative vertex index -1"}},
+    {"bad_token.ply", ascii_ply.substr(0, ascii_ply.size() - 8) + "3 0 x 2\n",
+     {"line 17", "expected a vertex index", "'x'"}},
+    // caught after parsing, by read_triangle_surface() itself
+    {"index_out_of_range.ply", ascii_ply.substr(0, ascii_ply.size() - 8) + "3 0 3 9\n",
+     {"face 3 (0-based) has vertex index 9 out of range [0, 4)"}},
+    {"nan_vertex.ply", nan_ply, {"vertex 1 (0-based) has a non-finite coordinate"}},
+    // truncated files of every format
+    {"no_faces.off", "OFF\n4 4 0\n" + v4 + f4.substr(0, 16), {"cannot parse as off", "unexpected end of file", "face 2"}},
+    {"no_vertices.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n# the file was cut here\n", {"cannot parse as off", "unexpected end of file", "vertex 2"}},
+    {"cut_counts.off", "OFF\n4", {"unexpected end of file", "counts line"}},
+    {"cut.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0", {"cannot parse as obj", "line 4", "got only 2"}},
+    {"cut_ascii.stl", ascii_stl.substr(0, ascii_stl.find("vertex", ascii_stl.find("facet", 200)) + 7),
+     {"cannot parse as stl", "unexpected end of file", "in facet 2"}},
+    {"cut_end.stl", ascii_stl.substr(0, ascii_stl.size() - 11), {"unexpected end of file", "'endsolid'"}},
+    {"cut_binary.stl", binary_stl(tet_points, tet_faces, 4, "tet").substr(0, 84 + 50 * 3 + 20),
+     {"cannot parse as stl", "announces 4 triangles", "84 + 50 x 4 = 284 bytes, but the file has 254 bytes"}},
+    {"short_binary.stl", std::string(40, '\0'), {"40 bytes, shorter than the 84-byte header"}},
+    {"cut_ascii.ply", ascii_ply.substr(0, ascii_ply.size() - 2),
+     {"cannot parse as ply", "unexpected end of file in element 'face' item 3 (0-based) of 4"}},
+    {"cut_list.ply", ascii_ply.substr(0, ascii_ply.size() - 5),
+     {"line 17", "the list 'vertex_indices' of element 'face' item 3 (0-based) of 4 announces 3 entries, more than"}},
+    {"cut_vertices.ply", ascii_ply.substr(0, ascii_ply.find("end_header\n") + 11 + 8),
+     {"line 3", "element 'vertex' announces 4 items of at least 6 bytes, more than the 8 bytes of data hold"}},
+    {"cut_binary.ply", cube_le.substr(0, cube_le.size() - 2),
+     {"cannot parse as ply", "binary_little_endian data: the file ends inside element 'edge' item 0 (0-based) of 1",
+      "property 'vertex2'"}},
+    {"cut_binary_faces.ply", cube_le.substr(0, cube_le.find("end_header\n") + 11 + 2 * 10 + 8 * 21 + 16),
+     {"line 14", "element 'face' announces 12 items of at least 6 bytes", "after the elements before it"}},
+    {"cut_header.ply", cube_le.substr(0, cube_le.find("end_header")), {"cannot parse as ply", "no 'end_header'"}},
+    {"empty.ply", "", {"cannot parse as ply", "empty file"}},
+    {"empty.stl", "", {"cannot parse as stl", "empty file"}},
+    {"empty.obj", "", {"the surface has no faces"}},
+  };
+  for(const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    const std::string path = scratch(c.file);
+    write_text(path, c.text);
+    std::vector<std::string> needles = c.needles;
+    needles.push_back(path + ":");
+    const std::string what =
+        expect_error<BM::Invalid_file>([&] { BM::IO::read_triangle_surface<K>(path); }, needles);
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  // a directory is not a file
+  const std::string dir = scratch("directory.off");
+  fs::create_directories(dir);
+  expect_error<BM::Invalid_file>([&] { BM::IO::read_triangle_surface<K>(dir); }, {dir + ":", "cannot"});
+}
+
+TEST(Surface, ParsersAllocateNoMoreThanTheFileHolds)
+{
+  // the counts are checked against the bytes that follow before anything
+  // is reserved: none of these may throw anything but Invalid_file
+  using BM::IO::Surface_file_format;
+  const std::vector<std::pair<Surface_file_format, std::string>> inputs = {
+    {Surface_file_format::OFF, "OFF\n999999999999 999999999999 0\n"},
+    {Surface_file_format::OFF, "OFF\n18446744073709551615 1 0\n"},
+    {Surface_file_format::OFF, "OFF\n1 1 0\n0 0 0\n18446744073709551615 1 2 3\n"},
+    {Surface_file_format::PLY, "ply\nformat ascii 1.0\nelement vertex 18446744073709551615\nproperty float x\n"
+                               "property float y\nproperty float z\nend_header\n"},
+    {Surface_file_format::PLY, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                               "property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n"
+                               "0 0 0 4294967295 1 2 3\n"},
+    {Surface_file_format::PLY, "ply\nformat binary_little_endian 1.0\nelement nothing 18446744073709551615\n"
+                               "element vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n"},
+  };
+  for(const auto& in : inputs) {
+    SCOPED_TRACE(in.second);
+    try {
+      BM::IO::parse_polygon_soup(in.second.data(), in.second.size(), in.first, "memory");
+    } catch(const BM::Invalid_file&) {
+    } catch(const std::exception& e) {
+      ADD_FAILURE() << "unexpected exception: " << e.what();
+    }
+  }
 }
 
 // ---------------------------------------------------------------- Interpolated_metric_field_3

@@ -5,9 +5,9 @@
 #ifndef CGAL_BUBBLE_MESH_3_IO_READ_TRIANGLE_SURFACE_H
 #define CGAL_BUBBLE_MESH_3_IO_READ_TRIANGLE_SURFACE_H
 
+#include <CGAL/Bubble_mesh_3/IO/read_polygon_soup.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 
-#include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -36,18 +36,6 @@ namespace CGAL {
 namespace Bubble_mesh_3 {
 namespace IO {
 namespace internal {
-
-inline std::string lowercase_extension(const std::string& path)
-{
-  const std::size_t slash = path.find_last_of("/\\");
-  const std::size_t dot = path.find_last_of('.');
-  if(dot == std::string::npos || (slash != std::string::npos && dot < slash))
-    return std::string();
-  std::string ext = path.substr(dot + 1);
-  for(char& c : ext)
-    c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-  return ext;
-}
 
 struct Pair_hash {
   std::size_t operator()(const std::pair<std::size_t, std::size_t>& e) const
@@ -212,9 +200,13 @@ std::string check_triangle_surface(CGAL::Surface_mesh<Point_3>& mesh, bool repai
 
 /// \ingroup PkgBubbleMesh3IO
 /// Reads the closed triangle surface `path` into a `Surface_mesh`. The format
-/// is chosen by the extension (case-insensitive): `.off` (OFF and COFF),
-/// `.obj`, `.stl` (ASCII or binary; duplicated corners are merged by CGAL's
-/// reader) or `.ply`, read through `CGAL::IO::read_polygon_soup()`.
+/// is chosen by the extension (case-insensitive): `.off` (ASCII OFF and its
+/// variants COFF, NOFF, STOFF, 4OFF...), `.obj`, `.stl` (ASCII or binary;
+/// corners with equal coordinates are merged) or `.ply` (ASCII or binary,
+/// either byte order), read with the package's own parsers
+/// (`read_polygon_soup()`, which refuses malformed and truncated files with
+/// the line or byte where they go wrong, and never allocates more than a
+/// small multiple of the file size), not with CGAL's readers.
 ///
 /// The surface must be made of triangles only (other polygons are refused,
 /// not triangulated), have finite coordinates, be closed and manifold (every
@@ -227,12 +219,14 @@ std::string check_triangle_surface(CGAL::Surface_mesh<Point_3>& mesh, bool repai
 /// Several components, disjoint or nested, are accepted.
 ///
 /// Throws `Invalid_file` naming `path` and the reason: the file cannot be
-/// opened or parsed (also a truncated file), unknown extension, no faces, a
-/// face that is not a triangle (which face, how many vertices), a repeated
-/// vertex in a face, a face vertex index out of range, a non-finite
-/// coordinate, boundary edges (how many), edges shared by more than two faces
-/// (how many), non-manifold vertices, a non-orientable surface, or any
-/// problem found by `check_triangle_surface()`.
+/// opened or read, unknown extension, the file does not parse
+/// (`cannot parse as EXT: ...`, also a truncated or empty file, binary OFF,
+/// a non-finite coordinate in an ASCII file), no faces, a face that is not a
+/// triangle (which face, how many vertices), a repeated vertex in a face, a
+/// face vertex index out of range, a non-finite coordinate, boundary edges
+/// (how many), edges shared by more than two faces (how many), non-manifold
+/// vertices, a non-orientable surface, or any problem found by
+/// `check_triangle_surface()`.
 ///
 /// \tparam K a CGAL kernel whose `Point_3` is the point type of the result.
 template <typename K>
@@ -252,16 +246,13 @@ CGAL::Surface_mesh<typename K::Point_3> read_triangle_surface(const std::string&
     throw Invalid_file(path + ": unknown surface file extension '" + ext +
                        "' (expected .off, .obj, .stl or .ply)");
 
+  Polygon_soup soup = read_polygon_soup(path);
   std::vector<Point_3> points;
-  std::vector<std::vector<std::size_t>> polygons;
-  bool ok = false;
-  try {
-    ok = CGAL::IO::read_polygon_soup(path, points, polygons);
-  } catch(const std::exception& e) {
-    throw Invalid_file(path + ": cannot parse as " + ext + " (" + e.what() + ")");
-  }
-  if(!ok)
-    throw Invalid_file(path + ": cannot parse as " + ext + " (malformed or unsupported file)");
+  points.reserve(soup.points.size());
+  for(const std::array<double, 3>& p : soup.points)
+    points.emplace_back(p[0], p[1], p[2]);
+  soup.points = std::vector<std::array<double, 3>>();
+  std::vector<std::vector<std::size_t>> polygons = std::move(soup.polygons);
   if(polygons.empty())
     throw Invalid_file(path + ": the surface has no faces");
 
