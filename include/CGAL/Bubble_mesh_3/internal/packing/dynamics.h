@@ -344,10 +344,24 @@ private:
         B += d * (entries(bj.m) - mi).transpose();
       }
       flat_[i] = B.isZero(0) ? 1 : 0;
-      if(!(A.trace() > 0) || flat_[i])
+      const double trace = A.trace();
+      if(!(trace > 0) || flat_[i])
         return;
-      A += (1e-3 * A.trace()) * Eigen::Matrix3d::Identity();
-      const Eigen::Matrix<double, 3, 6> X = A.ldlt().solve(B);
+      // Fit only along the entity's own directions: the `dimension` largest
+      // spreads of the neighbours (the tangent of a curve, the plane of a
+      // patch). Across a curve or patch the neighbours spread by its
+      // curvature only, and a regularised solve there returns slopes amplified
+      // by up to 1/(1e-3 trace): garbage that M_i^-1 carries into the
+      // tangential motion (it cost the elephant's closed feature curves a
+      // bubble). The constraint removes the normal part of the motion anyway.
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(A);
+      const int rank = std::min(3, std::max(1, b_[i].dimension));
+      Eigen::Matrix<double, 3, 6> X = Eigen::Matrix<double, 3, 6>::Zero();
+      for(int e = 3 - rank; e < 3; ++e) { // eigenvalues in increasing order
+        const Eigen::Vector3d v = eig.eigenvectors().col(e);
+        X += (v / (eig.eigenvalues()(e) + 1e-3 * trace)) * (v.transpose() * B);
+      }
       for(int k = 0; k < 3; ++k) {
         Sym3& g = grad_[i][k];
         g.a00 = X(k, 0);
