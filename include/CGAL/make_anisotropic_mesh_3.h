@@ -19,20 +19,25 @@
 #include <CGAL/Bubble_packer_3.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Triangulation_3.h>
 #include <CGAL/boost/graph/copy_face_graph.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <ostream>
 #include <sstream>
 #include <string>
@@ -76,6 +81,9 @@ struct Meshing_report {
   /// interior nodes not used: outside the boundary front (between a chord
   /// and a curved wall), or within metric distance 0.25 of it
   std::size_t dropped_outside = 0, dropped_near_boundary = 0;
+  /// patch nodes not used: on, or within metric distance 0.1 of, a feature
+  /// curve bounding their patch (they would make sliver boundary triangles)
+  std::size_t dropped_patch_nodes = 0;
   double front_seconds = 0;
   bool improved = false;           ///< whether `improve_mesh()` ran
   Improvement_report improvement;  ///< its report (quality before and after, flips, moves)
@@ -111,7 +119,7 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"undone_tets\": " << r.front.undone_tets << ",\n    \"search_tets\": " << r.front.search_tets
     << ",\n    \"cavities\": " << r.front.cavities << ",\n    \"cavity_tets\": " << r.front.cavity_tets
     << ",\n    \"steiner_points\": " << r.front.steiner_points << ",\n    \"dropped_interior_nodes_outside\": "
-    << r.dropped_outside << ",\n    \"dropped_interior_nodes_near_boundary\": " << r.dropped_near_boundary << ",\n    \"front_seconds\": " << num(r.front_seconds)
+    << r.dropped_outside << ",\n    \"dropped_interior_nodes_near_boundary\": " << r.dropped_near_boundary << ",\n    \"dropped_patch_nodes_near_curves\": " << r.dropped_patch_nodes << ",\n    \"front_seconds\": " << num(r.front_seconds)
     << ",\n    \"final_tets\": " << r.final_tets << ",\n    \"improved\": " << (r.improved ? "true" : "false") << ",\n    \"improvement\": {\"worst_before\": "
     << num(r.improvement.worst_before) << ", \"worst_after\": " << num(r.improvement.worst_after)
     << ", \"p01_before\": " << num(r.improvement.p01_before) << ", \"p01_after\": " << num(r.improvement.p01_after)
@@ -147,6 +155,8 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
   if(r.dropped_outside + r.dropped_near_boundary > 0)
     o << "dropped:  " << r.dropped_outside << " interior nodes outside the boundary front, "
       << r.dropped_near_boundary << " too close to it\n";
+  if(r.dropped_patch_nodes > 0)
+    o << "dropped:  " << r.dropped_patch_nodes << " surface nodes on or next to a feature curve\n";
   if(r.improved) {
     const Improvement_report& i = r.improvement;
     o << "improve:  worst " << i.worst_before << " -> " << i.worst_after << " deg, p01 " << i.p01_before << " -> "
@@ -362,6 +372,57 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
     m.point_refs.push_back(index);
     out.locations.push_back(C3t3_vertex_location{dim, index});
   };
+  // Patch nodes on a feature curve bounding their patch, or within metric
+  // distance 0.1 of it, are dropped (counted). The surface packer keeps a
+  // bubble on its patch by a wall at the patch boundary, but a step that
+  // overshoots the wall by less than its rounding allowance ends on the
+  // curve itself (a 1:100 metric oblique to the faces of a cube did it): the
+  // boundary front then refused the node ("of dimension 2 lies on a feature
+  // curve", exit 2 for valid input). Closer than 0.1 the node would only make
+  // a sliver triangle against the curve, whose own nodes stand.
+  typedef CGAL::Exact_predicates_inexact_constructions_kernel EK;
+  std::vector<EK::Segment_3> feature_segments;
+  std::vector<std::array<int, 2>> segment_patches; // the patches on both sides
+  typedef CGAL::AABB_segment_primitive<EK, typename std::vector<EK::Segment_3>::const_iterator> Segment_primitive;
+  CGAL::AABB_tree<CGAL::AABB_traits<EK, Segment_primitive>> segment_tree;
+  {
+    std::map<std::pair<int, int>, std::array<int, 2>> sides;
+    for(const auto& e : surface.feature_edges)
+      sides.emplace(std::minmax(e[0], e[1]), std::array<int, 2>{{-1, -1}});
+    for(std::size_t f = 0; f < surface.triangles.size(); ++f)
+      for(int k = 0; k < 3; ++k) {
+        auto it = sides.find(std::minmax(surface.triangles[f][k], surface.triangles[f][(k + 1) % 3]));
+        if(it != sides.end())
+          it->second[it->second[0] < 0 ? 0 : 1] = surface.patches[f];
+      }
+    for(const auto& e : sides) {
+      const auto &a = surface.points[e.first.first], &b = surface.points[e.first.second];
+      feature_segments.emplace_back(EK::Point_3(a[0], a[1], a[2]), EK::Point_3(b[0], b[1], b[2]));
+      segment_patches.push_back(e.second);
+    }
+    if(!feature_segments.empty()) {
+      segment_tree.insert(feature_segments.begin(), feature_segments.end());
+      segment_tree.accelerate_distance_queries();
+    }
+  }
+  auto too_close_to_a_curve = [&](const std::array<double, 3>& x, int patch) {
+    if(feature_segments.empty())
+      return false;
+    const EK::Point_3 q(x[0], x[1], x[2]);
+    const auto cp = segment_tree.closest_point_and_primitive(q);
+    const std::size_t si = static_cast<std::size_t>(cp.second - feature_segments.begin());
+    if(segment_patches[si][0] != patch && segment_patches[si][1] != patch)
+      return false;
+    // the distance in the node's metric to that segment (closest point in the metric)
+    const Metric_3 mq = Metric_3(field(typename K::Point_3(x[0], x[1], x[2])));
+    const EK::Segment_3& sg = feature_segments[si];
+    const Eigen::Vector3d a(sg.source().x(), sg.source().y(), sg.source().z());
+    const Eigen::Vector3d ab = Eigen::Vector3d(sg.target().x(), sg.target().y(), sg.target().z()) - a;
+    const Eigen::Vector3d p(x[0], x[1], x[2]);
+    const double l2 = mq.squared_length(ab);
+    const double t = l2 > 0 ? std::clamp((p - a).dot(mq.matrix() * ab) / l2, 0.0, 1.0) : 0.0;
+    return mq.length(a + t * ab - p) < 0.1;
+  };
   for(std::size_t i = 0; i < nodes.size(); ++i) {
     const auto& n = nodes[i];
     if(n.dimension > 2)
@@ -373,6 +434,12 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
       index = static_cast<int>(domain.curve_index(n.index));
     else
       index = static_cast<int>(domain.surface_patch_index(n.index));
+    if(n.dimension == 2 &&
+       too_close_to_a_curve({{CGAL::to_double(n.point.x()), CGAL::to_double(n.point.y()), CGAL::to_double(n.point.z())}},
+                            index)) {
+      ++rep.dropped_patch_nodes;
+      continue;
+    }
     F::Boundary_node b;
     b.point = {{CGAL::to_double(n.point.x()), CGAL::to_double(n.point.y()), CGAL::to_double(n.point.z())}};
     b.dimension = n.dimension;
@@ -383,7 +450,19 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
     if(n.dimension == 0)
       m.corners.push_back(point_of_node[i]);
   }
-  const F::Boundary_front bf = F::build_boundary_front(surface, bnodes, field);
+  if(rep.dropped_patch_nodes > 0)
+    say("dropped surface nodes: " + std::to_string(rep.dropped_patch_nodes) +
+        " on or within 0.1 of a feature curve bounding their patch");
+  // The nodes come from the packer, not from the user: a node the front
+  // cannot place is a meshing failure (exit 3), not invalid input.
+  F::Boundary_front bf;
+  try {
+    bf = F::build_boundary_front(surface, bnodes, field);
+  } catch(const Invalid_metric&) {
+    throw;
+  } catch(const Invalid_input& e) {
+    throw Meshing_failure(e.what());
+  }
   rep.boundary_triangles = bf.triangles.size();
   rep.boundary_seconds = seconds_since(t0);
   say("boundary front: " + std::to_string(bf.triangles.size()) + " triangles, " + std::to_string(rep.boundary_seconds) +
@@ -520,6 +599,33 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
       io.time_limit_seconds = std::max(0.0, std::min(own, stop.remaining()));
     }
     install_stop_check(io, stop, "the improvement", false);
+    // vertices inside curved patches slide on the input surface of their patch
+    typedef std::vector<EK::Triangle_3> Patch_triangles;
+    typedef CGAL::AABB_triangle_primitive<EK, typename Patch_triangles::const_iterator> Patch_primitive;
+    typedef CGAL::AABB_tree<CGAL::AABB_traits<EK, Patch_primitive>> Patch_tree;
+    std::map<int, Patch_triangles> patch_triangles;
+    for(std::size_t f = 0; f < surface.triangles.size(); ++f) {
+      const auto& t = surface.triangles[f];
+      auto point = [&](int k) {
+        const auto& p = surface.points[std::size_t(t[std::size_t(k)])];
+        return EK::Point_3(p[0], p[1], p[2]);
+      };
+      patch_triangles[surface.patches[f]].emplace_back(point(0), point(1), point(2));
+    }
+    std::map<int, std::unique_ptr<Patch_tree>> patch_trees;
+    for(const auto& pt : patch_triangles) {
+      auto tree = std::make_unique<Patch_tree>(pt.second.begin(), pt.second.end());
+      tree->accelerate_distance_queries();
+      patch_trees.emplace(pt.first, std::move(tree));
+    }
+    io.surface_projection = [&patch_trees](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
+      const auto it = patch_trees.find(ref);
+      if(it == patch_trees.end())
+        return false;
+      const EK::Point_3 c = it->second->closest_point(EK::Point_3(p[0], p[1], p[2]));
+      q = {{c.x(), c.y(), c.z()}};
+      return true;
+    };
     rep.improvement = improve_mesh(m, field, io);
     rep.improved = true;
     say("improvement: worst metric min dihedral " + std::to_string(rep.improvement.worst_before) + " -> " +

@@ -244,5 +244,46 @@ check "time limit: no output" [ -z "$(ls "$work" | grep tl.mesh)" ]
 expect time-limit-generous 0 "" -- "$tool" "$work/cube.off" -o "$work/tl.mesh" --size 0.3 --time-limit 1000 --quiet
 check "generous time limit: output" [ -s "$work/tl.mesh" ]
 
+# Extreme but valid inputs (doc/Bubble_mesh_3/input_checks.md, "Extreme but valid
+# inputs"): metric aspect ratios 1:30 and 1:100 (axis-aligned and oblique), a size
+# grading of 1:1000, a thin plate and a needle 3-4 elements thick, a 10-degree
+# wedge, coordinates offset by 1e6, scales 1e-6 and 1e6. Each is meshed with one
+# thread and must give a mesh that eval --require-valid accepts in the same metric.
+ext="$work/extreme"
+check "extreme surfaces generated" python3 "$data/make_extreme_surfaces.py" "$ext"
+extreme() { # NAME SURFACE METRIC_ARGS...
+  local name="$1" surface="$2"
+  shift 2
+  expect "extreme-$name" 0 "" -- "$tool" "$ext/$surface" -o "$ext/$name.mesh" --threads 1 --seed 1 --time-limit 300 --quiet "$@"
+  expect "extreme-$name-valid" 0 "" -- "$tool" eval "$ext/$name.mesh" --require-valid --report "$ext/$name.json" --quiet "$@"
+}
+near() { # VALUE EXPECTED RELATIVE_TOLERANCE
+  awk -v v="$1" -v e="$2" -v t="$3" 'BEGIN { d = v - e; if (d < 0) d = -d; exit !(v != "" && d <= t * e) }'
+}
+extreme aniso30 cube.off --metric-const 10000,0,0,11.11111111,0,11.11111111
+extreme aniso100 cube.off --metric-const 40000,0,0,4,0,4
+check "aniso 1:100: most edges of unit metric length" awk -v v="$(json_value "$ext/aniso100.json" in_range_fraction)" 'BEGIN { exit !(v > 0.9) }'
+# oblique 1:100 (fine along (1,1,1)): surface nodes ended on the cube's edges
+# and the boundary front refused them (exit 2) before they were dropped
+extreme rotated100 cube.off --metric-const 3334,3333,3333,3334,3333,3334
+# size 1e-3 at the corner (0,0,0) to 1 (background mesh): no interior or
+# surface node was seeded before (105 nodes, 26% of the edges in range)
+extreme graded1000 cube.off --metric-mesh "$ext/graded_bg.mesh" --metric-sol "$ext/graded_bg_steep.sol"
+check "graded 1:1000: the fine corner is seeded" [ "$(json_value "$ext/graded1000.json" vertices)" -gt 300 ]
+check "graded 1:1000: most edges of unit metric length" awk -v v="$(json_value "$ext/graded1000.json" in_range_fraction)" 'BEGIN { exit !(v > 0.7) }'
+extreme plate plate.off --metric-const 400,0,0,400,0,20408.16327
+check "plate: volume 0.02" near "$(json_value "$ext/plate.json" volume)" 0.02 1e-9
+extreme needle needle.off --size 0.007
+extreme wedge10 wedge10.off --size 0.03
+# 1e6 from the origin: the boundary front's volume sum cancelled to noise
+# ("the surface has non-positive volume", exit 3) before it was taken relative
+# to a point of the surface
+extreme offset cube_offset.off --metric-const 40000,0,0,4,0,4
+check "offset cube: volume 1" near "$(json_value "$ext/offset.json" volume)" 1 1e-6
+extreme tiny cube_1e-6.off --size 1.5e-7
+check "tiny cube: volume 1e-18" near "$(json_value "$ext/tiny.json" volume)" 1e-18 1e-9
+extreme huge cube_1e6.off --size 1.5e5
+check "huge cube: volume 1e18" near "$(json_value "$ext/huge.json" volume)" 1e18 1e-9
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

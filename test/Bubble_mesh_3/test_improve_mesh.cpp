@@ -842,6 +842,70 @@ TEST(ImproveMesh, CurvedBoundaryVerticesDoNotMove)
     EXPECT_EQ(mesh.points[v], input.points[v]);
 }
 
+TEST(ImproveMesh, CurvedBoundaryVerticesSlideOnTheSurfaceWithAProjection)
+{
+  // the same sphere, with the exact sphere as the surface of patch 1: its
+  // vertices now slide along the sphere; the mesh stays valid, bounded by
+  // the same triangles (by index), every boundary vertex stays on the sphere
+  // and the worst tet gets better than without the projection
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g;
+  std::vector<V3> points;
+  for(int i = 0; i < 150; ++i)
+    points.push_back(V3(g(rng), g(rng), g(rng)).normalized());
+  std::uniform_real_distribution<double> u(-0.55, 0.55);
+  for(int i = 0; i < 300; ++i)
+    points.push_back(V3(u(rng), u(rng), u(rng)));
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(points);
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.2));
+
+  BM::Indexed_tet_mesh_3 fixed_boundary = input;
+  const BM::Improvement_report r0 = BM::improve_mesh(fixed_boundary, field, deterministic());
+
+  BM::Indexed_tet_mesh_3 mesh = input;
+  BM::Improvement_options o = deterministic();
+  std::size_t projections = 0;
+  o.surface_projection = [&](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
+    ++projections;
+    EXPECT_EQ(ref, 1);
+    const V3 x = V3(p[0], p[1], p[2]).normalized();
+    q = {{x[0], x[1], x[2]}};
+    return true;
+  };
+  const BM::Improvement_report r = BM::improve_mesh(mesh, field, o);
+  BM::Validity_options vo;
+  vo.require_outward_triangles = true;
+  const BM::Validity_report valid = BM::check_validity(mesh, vo);
+  EXPECT_TRUE(valid.is_valid()) << (valid.problems.empty() ? "" : valid.problems[0]);
+  EXPECT_EQ(valid.misoriented_boundary_triangles, 0u);
+  EXPECT_EQ(mesh.triangles, input.triangles);
+  EXPECT_EQ(mesh.triangle_refs, input.triangle_refs);
+  EXPECT_GT(projections, 0u);
+  EXPECT_GT(r.boundary_moves, 0u);
+  std::size_t moved = 0;
+  for(std::size_t v = 0; v < 150; ++v) {
+    const V3 x(mesh.points[v][0], mesh.points[v][1], mesh.points[v][2]);
+    EXPECT_NEAR(x.norm(), 1.0, 1e-15) << "boundary vertex " << v << " left the sphere";
+    moved += mesh.points[v] != input.points[v] ? 1 : 0;
+  }
+  EXPECT_GT(moved, 0u);
+  const BM::Quality_report q_in = BM::compute_quality_report(input, field);
+  const BM::Quality_report q = BM::compute_quality_report(mesh, field);
+  EXPECT_GE(q.min_dihedral.worst, q_in.min_dihedral.worst);
+  EXPECT_DOUBLE_EQ(r.worst_after, q.min_dihedral.worst);
+  EXPECT_GT(r.worst_after, r0.worst_after);
+  // the volume is that of the new chords (validity checked that the tets
+  // fill what the triangles enclose): a polyhedron inscribed in the sphere
+  // (measured: 3.857 -> 3.933, the boundary spreads out evenly)
+  const Volumes before = volumes(input), after = volumes(mesh);
+  EXPECT_LT(after.total, 4.0 / 3.0 * std::acos(-1.0));
+  EXPECT_GT(after.total, 0.95 * before.total);
+  std::printf("[sphere, projected] worst %.2f -> %.2f (fixed boundary: %.2f), p01 %.2f -> %.2f, "
+              "%zu boundary moves, %zu sphere vertices moved, volume %.6f -> %.6f\n",
+              r.worst_before, r.worst_after, r0.worst_after, r.p01_before, r.p01_after, r.boundary_moves, moved,
+              before.total, after.total);
+}
+
 // ---------------------------------------------------------------------------
 // (e) slivers and nearly flat tets
 

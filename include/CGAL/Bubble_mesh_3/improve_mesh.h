@@ -12,6 +12,7 @@
 #include <CGAL/Bubble_mesh_3/internal/improve/Mutable_tet_mesh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <functional>
@@ -77,9 +78,18 @@
 ///   copied, so this is exact; for another plane the projected point is the
 ///   closest double along the dominant normal axis, off the plane by a
 ///   rounding error (relative 1e-16), which the volume check of the tests
-///   (1e-12 relative) sees as no change. Curved patches and curved feature
-///   curves are not smoothed (that needs a projection onto the true surface
-///   and changes the volume slightly; not in this version).
+///   (1e-12 relative) sees as no change. (3) *surface* (only with a
+///   `surface_projection`): the vertex is inside one curved patch (one closed
+///   fan of listed triangles of one ref on the domain boundary, no feature
+///   edge or corner at it): it moves in the tangent plane of its fan, every
+///   candidate is projected onto the true surface of the patch by the
+///   callback, stays within half its shortest metric edge of its start and
+///   turns no triangle at it by more than 20 degrees. The triangles keep
+///   their vertices and refs and the vertices stay on the surface, but the
+///   chords move: the meshed volume changes by that (still exactly the
+///   volume the triangles enclose). `make_anisotropic_mesh_3()` passes the
+///   projection onto the input surface's patches. Curved feature curves are
+///   not smoothed.
 /// - *sliver moves* (`sliver_moves`): a *sliver* here is a tet whose metric
 ///   edges are within a factor 2 of each other but whose smallest dihedral
 ///   angle is below 20 degrees and largest above 140 (four nearly coplanar
@@ -142,10 +152,10 @@
 /// (one evaluation per candidate tet; the boundary-layer field of the blob:
 /// 6-8 s for 22k tets).
 ///
-/// **Limitations of this version.** Vertices on curved patches and curved
-/// feature curves never move and their triangles are never flipped, so a
-/// bad tet with three such vertices and a boundary face may stay (these are
-/// the worst tets left on the demo meshes). No vertex insertion or edge
+/// **Limitations of this version.** Vertices on curved feature curves never
+/// move, those on curved patches only with a `surface_projection`, and
+/// triangles of curved patches are never flipped, so a bad tet whose
+/// vertices are all on curved features may stay. No vertex insertion or edge
 /// contraction: the number of vertices is fixed. No multi-face removal.
 /// Smoothing maximises the worst tet of a ball, which can lower its other
 /// tets (the mean quality may drop when smoothing alone is used).
@@ -188,6 +198,19 @@ struct Improvement_options {
   /// complex of a C3T3): every move keeps them positively oriented, but they
   /// are never flipped, never measured, and not counted in the report
   bool ref_0_is_exterior = false;
+  /// the true surface of the curved patches: `surface_projection(ref, p, q)`
+  /// writes into `q` the point of patch `ref` (a triangle ref) closest to
+  /// `p` and returns true (false: no move). When set, with
+  /// `boundary_smoothing`, a vertex inside one curved patch (one closed fan
+  /// of listed triangles of that ref on the domain boundary, no feature edge
+  /// or corner at it) slides along the surface: every candidate is
+  /// projected by it, moves by at most half its shortest metric edge, and
+  /// turns no boundary triangle at it by more than 20 degrees. The boundary
+  /// triangles stay the same (same vertices, refs and orientation) and their
+  /// vertices stay on the surface, but the triangles move with their
+  /// vertices, so the meshed volume changes by the change of the chords.
+  /// Unset (the default): vertices of curved patches never move.
+  std::function<bool(int, const std::array<double, 3>&, std::array<double, 3>&)> surface_projection;
   /// polled between operations (every 64 flips, every 16 vertex moves); a
   /// `true` ends the work as the time limit does (`time_limit_reached`).
   /// An exception thrown by it propagates and leaves `mesh` unchanged.
@@ -264,7 +287,8 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   Improvement_report report;
   if(mesh.tets.empty())
     return report;
-  internal::improve::Mutable_tet_mesh work(mesh, options.ref_0_is_exterior);
+  internal::improve::Mutable_tet_mesh work(mesh, options.ref_0_is_exterior,
+                                          options.boundary_smoothing ? options.surface_projection : nullptr);
   internal::improve::Improver_settings settings;
   settings.maximum_passes = std::max(0, options.maximum_passes);
   settings.time_limit_seconds = options.time_limit_seconds >= 0

@@ -67,6 +67,10 @@ void component_volumes(const Mesh& mesh, const ComponentMap& component, std::siz
 {
   volume.assign(n, 0.0);
   std::vector<std::array<double, 6>> box(n, {{1e300, 1e300, 1e300, -1e300, -1e300, -1e300}});
+  // each component's volume relative to its first point: far from the origin
+  // (1e6) the absolute terms would cancel to noise larger than the volume
+  std::vector<std::array<double, 3>> origin(n);
+  std::vector<char> has_origin(n, 0);
   for(auto f : faces(mesh)) {
     std::array<std::array<double, 3>, 3> p;
     int k = 0;
@@ -76,8 +80,16 @@ void component_volumes(const Mesh& mesh, const ComponentMap& component, std::siz
       ++k;
     }
     const std::size_t c = component[f];
-    volume[c] += (p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
-                  p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0])) / 6;
+    if(!has_origin[c]) {
+      origin[c] = p[0];
+      has_origin[c] = 1;
+    }
+    std::array<std::array<double, 3>, 3> r;
+    for(int j = 0; j < 3; ++j)
+      for(int a = 0; a < 3; ++a)
+        r[j][a] = p[j][a] - origin[c][a];
+    volume[c] += (r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                  r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0])) / 6;
     for(const auto& x : p)
       for(int a = 0; a < 3; ++a) {
         box[c][a] = std::min(box[c][a], x[a]);

@@ -372,7 +372,9 @@ private:
           throw Invalid_input("boundary front: a surface triangle has a vertex index out of range");
       if(t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
         throw Invalid_input("boundary front: a surface triangle repeats a vertex");
-      const Vec a = to_vec(s_.points[t[0]]), b = to_vec(s_.points[t[1]]), c = to_vec(s_.points[t[2]]);
+      // relative to a corner of the bounding box: far from the origin (1e6)
+      // the terms a.(b x c) would cancel to noise
+      const Vec a = to_vec(s_.points[t[0]]) - lo, b = to_vec(s_.points[t[1]]) - lo, c = to_vec(s_.points[t[2]]) - lo;
       volume += a.dot(b.cross(c)) / 6;
     }
     if(volume < 0) {
@@ -1149,12 +1151,13 @@ private:
     std::unordered_map<std::uint64_t, int> directed;
     std::vector<std::vector<int>> around(n);
     double volume = 0;
+    const Vec o = n > 0 ? to_vec(nodes_[0].point) : Vec::Zero(); // volume relative to o (see setup_surface)
     for(std::size_t f = 0; f < T.size(); ++f) {
       const auto& t = T[f];
       const Vec a = to_vec(nodes_[t[0]].point), b = to_vec(nodes_[t[1]].point), c = to_vec(nodes_[t[2]].point);
       if(degenerate(a, b, c, 1e-12))
         fail("triangle " + str(a) + str(b) + str(c) + " is degenerate");
-      volume += a.dot(b.cross(c)) / 6;
+      volume += (a - o).dot((b - o).cross(c - o)) / 6;
       for(int k = 0; k < 3; ++k) {
         const int p = t[k], q = t[(k + 1) % 3];
         const std::uint64_t key = (std::uint64_t(std::uint32_t(p)) << 32) | std::uint32_t(q);
@@ -1291,10 +1294,17 @@ Boundary_surface boundary_surface_from_polyhedral_domain(const Domain& domain)
     }
   }
   double volume = 0;
-  for(const auto& t : s.triangles) {
-    const auto &a = s.points[t[0]], &b = s.points[t[1]], &c = s.points[t[2]];
-    volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-               a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+  if(!s.points.empty()) {
+    const std::array<double, 3> o = s.points[0]; // relative to o: exact cancellation far from the origin
+    for(const auto& t : s.triangles) {
+      std::array<std::array<double, 3>, 3> p;
+      for(int k = 0; k < 3; ++k)
+        for(int i = 0; i < 3; ++i)
+          p[k][i] = s.points[t[k]][i] - o[i];
+      const auto &a = p[0], &b = p[1], &c = p[2];
+      volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                 a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    }
   }
   if(volume < 0)
     for(auto& t : s.triangles)

@@ -659,10 +659,40 @@ private:
     // the tangent space of a constrained vertex, orthonormal in y = Q x
     int tangent_dimension = 3;
     Eigen::Vector3d tangent[2];
+    const bool on_surface = constraint.kind == Vertex_constraint::surface;
+    Eigen::Vector3d surface_tangent[2];
+    // surface vertices: the protected faces at v (outward from their tet) and
+    // their normals now, to bound how far each one turns
+    std::vector<std::pair<std::array<int, 2>, Eigen::Vector3d>> surface_faces;
+    if(on_surface) {
+      const Eigen::Vector3d normal = m_.boundary_normal(v);
+      if(!(normal.norm() > 0))
+        return false;
+      const Eigen::Vector3d axis = normal.normalized();
+      surface_tangent[0] = axis.unitOrthogonal();
+      surface_tangent[1] = axis.cross(surface_tangent[0]);
+      for(const Ball_face& f : faces) {
+        if(f.passive)
+          continue;
+        // the faces of the tet at v: (v, f_k+1, f_k+2) opposite f_k
+        for(int k = 0; k < 3; ++k) {
+          const int a = f.f[std::size_t((k + 1) % 3)], b = f.f[std::size_t((k + 2) % 3)];
+          if(!m_.protected_faces.count(Face_key(v, a, b)))
+            continue;
+          Eigen::Vector3d n = (P(a) - x_start).cross(P(b) - x_start);
+          if(n.dot(P(f.f[std::size_t(k)]) - x_start) > 0) // point away from the tet's fourth vertex
+            surface_faces.push_back({{{b, a}}, -n});
+          else
+            surface_faces.push_back({{{a, b}}, n});
+        }
+      }
+      if(surface_faces.empty())
+        return false;
+    }
     if(constrained) {
-      tangent_dimension = constraint.kind == Vertex_constraint::plane ? 2 : 1;
+      tangent_dimension = (constraint.kind == Vertex_constraint::plane || on_surface) ? 2 : 1;
       for(int i = 0; i < tangent_dimension; ++i) {
-        Eigen::Vector3d e = Q * constraint.tangent[i];
+        Eigen::Vector3d e = Q * (on_surface ? surface_tangent[i] : constraint.tangent[i]);
         for(int j = 0; j < i; ++j)
           e -= e.dot(tangent[j]) * tangent[j];
         tangent[i] = e.normalized();
@@ -680,9 +710,25 @@ private:
 
     Eigen::Vector3d x = x_start;
     double current = start;
+    // A surface vertex changes the boundary: it stays within half its
+    // shortest metric edge of where it started, and no boundary face at it
+    // turns by more than 20 degrees (the faces stay close to the surface).
+    const double cos_turn = std::cos(20.0 * std::acos(-1.0) / 180.0);
+    auto surface_move_ok = [&](const Eigen::Vector3d& candidate) {
+      if(!(metric.length(candidate - x_start) <= 0.5 * scale))
+        return false;
+      for(const auto& sf : surface_faces) {
+        const Eigen::Vector3d n = (P(sf.first[0]) - candidate).cross(P(sf.first[1]) - candidate);
+        if(!(n.dot(sf.second) > cos_turn * n.norm() * sf.second.norm()))
+          return false;
+      }
+      return true;
+    };
     auto try_candidate = [&](const Eigen::Vector3d& raw) {
       const Eigen::Vector3d candidate = project(raw);
       if(candidate == x || !candidate.allFinite())
+        return false;
+      if(on_surface && !surface_move_ok(candidate))
         return false;
       const double w = evaluate(candidate, current + minimum_gain);
       if(w > current + minimum_gain) {
@@ -855,7 +901,8 @@ private:
     if(!m_.fixed[std::size_t(v)])
       return true;
     const Vertex_constraint::Kind k = m_.constraint[std::size_t(v)].kind;
-    return s_.boundary_smoothing && (k == Vertex_constraint::plane || k == Vertex_constraint::line);
+    return s_.boundary_smoothing &&
+           (k == Vertex_constraint::plane || k == Vertex_constraint::line || k == Vertex_constraint::surface);
   }
 
   bool has_bad_tet() const

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -103,9 +104,16 @@ struct Edge_key_hash {
 /// positively oriented, up to the rounding of the projected coordinates
 /// (none when the plane or line is axis-parallel: the constant coordinates
 /// are copied).
+///
+/// (3) *surface*: like (1) but the fan is not planar (a curved patch), and a
+/// surface projection was given: the vertex slides in the tangent plane of
+/// its fan, every candidate projected onto the true surface of its patch.
+/// The boundary then changes (the triangles stay chords of the surface).
 struct Vertex_constraint {
-  enum Kind { free, plane, line, fixed };
+  enum Kind { free, plane, line, fixed, surface };
   Kind kind = free;
+  /// surface: the patch (triangle ref) of the fan
+  int patch = 0;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   /// plane: unit normal; line: unit direction
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();
@@ -132,8 +140,15 @@ public:
   /// If `ref_0_is_exterior`, tets of ref 0 are *passive*: padding outside
   /// the domain (a C3T3's cells outside the complex), kept positively
   /// oriented by every move but never flipped or measured.
-  explicit Mutable_tet_mesh(const Indexed_tet_mesh_3& mesh, bool ref_0_is_exterior = false)
-    : exterior_ref_0(ref_0_is_exterior)
+  /// closest point of patch `ref` to a point (false: unknown, no move)
+  typedef std::function<bool(int ref, const std::array<double, 3>& p, std::array<double, 3>& closest)>
+      Surface_projection;
+
+  /// With a `projection`, vertices inside one curved patch get the
+  /// `surface` constraint instead of staying fixed.
+  explicit Mutable_tet_mesh(const Indexed_tet_mesh_3& mesh, bool ref_0_is_exterior = false,
+                            Surface_projection projection = {})
+    : exterior_ref_0(ref_0_is_exterior), surface_projection(std::move(projection))
   {
     const std::size_t np = mesh.points.size();
     points.resize(np);
@@ -223,12 +238,49 @@ public:
 
   bool is_passive(int t) const { return exterior_ref_0 && refs[std::size_t(t)] == 0; }
 
+  /// The outward normal of the boundary at `v`: the sum of the area vectors
+  /// of the protected faces at `v`, each taken outward from its active tet
+  /// (zero where the faces are interfaces between active tets).
+  Eigen::Vector3d boundary_normal(int v) const
+  {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for(int t : vertex_tets[std::size_t(v)]) {
+      if(is_passive(t))
+        continue;
+      const Tet& T = tets[std::size_t(t)];
+      for(int k = 0; k < 4; ++k) {
+        if(T[std::size_t(k)] == v)
+          continue;
+        // the face opposite T[k] contains v
+        int f[3];
+        int j = 0;
+        for(int i = 0; i < 4; ++i)
+          if(i != k)
+            f[j++] = T[std::size_t(i)];
+        if(!protected_faces.count(Face_key(f[0], f[1], f[2])))
+          continue;
+        const Eigen::Vector3d& a = points[std::size_t(f[0])];
+        Eigen::Vector3d area = 0.5 * (points[std::size_t(f[1])] - a).cross(points[std::size_t(f[2])] - a);
+        if(area.dot(points[std::size_t(T[std::size_t(k)])] - a) > 0)
+          area = -area;
+        n += area;
+      }
+    }
+    return n;
+  }
+
   /// `x` moved onto the plane or line of the constraint of `v` (unchanged
   /// for a free vertex); a line point is clamped strictly between the line's
   /// current end vertices
   Eigen::Vector3d project(int v, const Eigen::Vector3d& x) const
   {
     const Vertex_constraint& c = constraint[std::size_t(v)];
+    if(c.kind == Vertex_constraint::surface) {
+      std::array<double, 3> closest;
+      if(!surface_projection || !surface_projection(c.patch, {{x[0], x[1], x[2]}}, closest))
+        return points[std::size_t(v)];
+      return Eigen::Vector3d(closest[0], closest[1], closest[2]);
+    }
     if(c.kind == Vertex_constraint::plane) {
       Eigen::Vector3d y = x - c.axis * c.axis.dot(x - c.origin);
       if(c.exact_axis >= 0) {
@@ -558,6 +610,7 @@ public:
   /// what a fixed vertex may still do (free vertices: `free`)
   std::vector<Vertex_constraint> constraint;
   bool exterior_ref_0 = false;
+  Surface_projection surface_projection;
 
 private:
   /// P(v) as an exact point
@@ -633,8 +686,20 @@ private:
         for(const auto& l : link)
           planar = planar && CGAL::orientation(pv, pa, pb, X(l.first)) == CGAL::COPLANAR &&
                    CGAL::orientation(pv, pa, pb, X(l.second)) == CGAL::COPLANAR;
-        if(!planar)
+        if(!planar) {
+          // only on the domain boundary (an interface has active tets on both
+          // sides: its outward area vectors cancel) and a listed patch
+          double area = 0;
+          for(const auto& l : link)
+            area += 0.5 * (points[std::size_t(l.first)] - points[v]).cross(points[std::size_t(l.second)] - points[v]).norm();
+          if(surface_projection && patch != std::numeric_limits<int>::min() &&
+             boundary_normal(int(v)).norm() > 0.5 * area) {
+            c.kind = Vertex_constraint::surface;
+            c.patch = patch;
+            c.origin = points[v];
+          }
           continue;
+        }
         c.kind = Vertex_constraint::plane;
         c.origin = points[v];
         c.axis = (points[std::size_t(link[0].first)] - points[v]).cross(points[std::size_t(link[0].second)] - points[v]);

@@ -172,15 +172,25 @@ private:
     tangent_basis(n, e1, e2);
     const Plane_metric pm(m, e1, e2);
     const double expected = (2 / std::sqrt(3.0)) * area * pm.determinant();
-    if(depth < 10 && expected > 2) {
+    if(depth < 10) {
       bool split = expected > 128;
       if(!split) {
+        // Split where the metric varies, unless the triangle holds fewer than
+        // 2 bubbles at its finest vertex too. (The count at the centroid alone
+        // is not enough: with a strong grading, e.g. size 1e-3 at a corner and
+        // 1 at the centroid, the triangle was never split, its corner region
+        // got no seed and the surface no bubble at all.)
         const double d0 = m.sqrt_determinant();
+        double finest = pm.determinant();
+        bool varies = false;
         for(const Vec3* v : {&a, &b, &c}) {
-          const double dv = refresh_.at(*v).sqrt_determinant();
+          const Sym3 mv = refresh_.at(*v);
+          const double dv = mv.sqrt_determinant();
           if(dv > 1.3 * d0 || d0 > 1.3 * dv)
-            split = true;
+            varies = true;
+          finest = std::max(finest, Plane_metric(mv, e1, e2).determinant());
         }
+        split = varies && (2 / std::sqrt(3.0)) * area * finest > 2;
       }
       if(split) {
         const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);

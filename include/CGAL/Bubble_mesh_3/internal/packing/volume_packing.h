@@ -145,13 +145,20 @@ private:
       side = o_.is_inside(c) ? 1 : -1;
     if(side < 0)
       return;
+    // split where the metric varies unless the cell holds fewer than 4
+    // bubbles at its finest corner too (see Volume_seeder::cell)
     bool split = false;
-    if(depth < 16 && expected > 4)
-      for(int k = 0; k < 8 && !split; ++k) {
+    if(depth < 16) {
+      double finest = d0;
+      bool varies = false;
+      for(int k = 0; k < 8; ++k) {
         const Vec3 v(k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
         const double dv = refresh_.at(v).sqrt_determinant();
-        split = dv > 1.25 * d0 || d0 > 1.25 * dv;
+        varies = varies || dv > 1.25 * d0 || d0 > 1.25 * dv;
+        finest = std::max(finest, dv);
       }
+      split = varies && std::sqrt(2.0) * finest * (hi - lo).prod() > 4;
+    }
     if(side == 0 && depth < 4 && expected > 8)
       split = true;
     if(split) {
@@ -198,15 +205,23 @@ private:
     const Vec3 size = hi - lo;
     const Sym3 m = refresh_.at(c);
     const double expected = std::sqrt(2.0) * m.sqrt_determinant() * size.prod();
-    if(depth < 16 && expected > 4) {
+    if(depth < 16) {
       bool split = expected > 512;
       if(!split) {
+        // Split where the metric varies, unless the cell holds fewer than 4
+        // bubbles at its finest corner too. (Testing the count at the centre
+        // alone left a strongly graded region unseeded: size 1e-3 at a corner
+        // of the unit cube and 1 at its centre gave no interior seed at all.)
         const double d0 = m.sqrt_determinant();
-        for(int k = 0; k < 8 && !split; ++k) {
+        double finest = d0;
+        bool varies = false;
+        for(int k = 0; k < 8; ++k) {
           const Vec3 v(k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
           const double dv = refresh_.at(v).sqrt_determinant();
-          split = dv > 1.25 * d0 || d0 > 1.25 * dv;
+          varies = varies || dv > 1.25 * d0 || d0 > 1.25 * dv;
+          finest = std::max(finest, dv);
         }
+        split = varies && std::sqrt(2.0) * finest * size.prod() > 4;
       }
       if(split) {
         for_each_octant(lo, c, hi, [&](const Vec3& a, const Vec3& b) { cell(a, b, depth + 1); });
