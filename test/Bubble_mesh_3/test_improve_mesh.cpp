@@ -822,9 +822,9 @@ TEST(ImproveMesh, BoundaryTwoTwoFlipInAPlane)
   EXPECT_EQ(r_feature.boundary_flips, 0u);
 }
 
-TEST(ImproveMesh, CurvedBoundaryVerticesDoNotMove)
+// 150 points on the unit sphere (the boundary) and 300 inside
+std::vector<V3> sphere_and_interior_points()
 {
-  // points on a sphere: no boundary vertex has coplanar faces, none may move
   std::mt19937 rng(8);
   std::normal_distribution<double> g;
   std::vector<V3> points;
@@ -833,6 +833,13 @@ TEST(ImproveMesh, CurvedBoundaryVerticesDoNotMove)
   std::uniform_real_distribution<double> u(-0.55, 0.55);
   for(int i = 0; i < 300; ++i)
     points.push_back(V3(u(rng), u(rng), u(rng)));
+  return points;
+}
+
+TEST(ImproveMesh, CurvedBoundaryVerticesDoNotMove)
+{
+  // points on a sphere: no boundary vertex has coplanar faces, none may move
+  const std::vector<V3> points = sphere_and_interior_points();
   BM::Indexed_tet_mesh_3 mesh = delaunay_mesh(points);
   const BM::Indexed_tet_mesh_3 input = mesh;
   CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.2));
@@ -848,14 +855,7 @@ TEST(ImproveMesh, CurvedBoundaryVerticesSlideOnTheSurfaceWithAProjection)
   // vertices now slide along the sphere; the mesh stays valid, bounded by
   // the same triangles (by index), every boundary vertex stays on the sphere
   // and the worst tet gets better than without the projection
-  std::mt19937 rng(8);
-  std::normal_distribution<double> g;
-  std::vector<V3> points;
-  for(int i = 0; i < 150; ++i)
-    points.push_back(V3(g(rng), g(rng), g(rng)).normalized());
-  std::uniform_real_distribution<double> u(-0.55, 0.55);
-  for(int i = 0; i < 300; ++i)
-    points.push_back(V3(u(rng), u(rng), u(rng)));
+  const std::vector<V3> points = sphere_and_interior_points();
   const BM::Indexed_tet_mesh_3 input = delaunay_mesh(points);
   CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.2));
 
