@@ -14,6 +14,7 @@
 #include <CGAL/Bubble_mesh_3/internal/c3t3/tet_soup_to_c3t3.h>
 #include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
 #include <CGAL/Bubble_mesh_3/internal/json.h>
+#include <CGAL/Bubble_mesh_3/internal/surface_fidelity.h>
 #include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Bubble_packer_3.h>
@@ -84,10 +85,21 @@ struct Meshing_report {
   /// patch nodes not used: on, or within metric distance 0.1 of, a feature
   /// curve bounding their patch (they would make sliver boundary triangles)
   std::size_t dropped_patch_nodes = 0;
+  /// input vertices the boundary front kept as nodes where the packed nodes
+  /// could not represent the surface (tips, thin parts, short closed curves)
+  std::size_t added_boundary_nodes = 0;
+  int boundary_repair_rounds = 0; ///< rebuilds of the boundary front to keep more of them
   double front_seconds = 0;
   bool improved = false;           ///< whether `improve_mesh()` ran
   Improvement_report improvement;  ///< its report (quality before and after, flips, moves)
   double validity_seconds = 0;
+  /// how far the boundary strays from the input surface: the largest distance
+  /// of the boundary triangles to it (sampled over each triangle), the
+  /// largest distance of an input vertex to the boundary (absolute, and over
+  /// the bounding box diagonal), and |mesh volume - input volume| / input volume
+  double surface_distance = 0, surface_distance_relative = 0;
+  double input_to_boundary_distance = 0;
+  double volume_error = 0;
   double c3t3_seconds = 0; ///< padding and conversion (make_anisotropic_mesh_3 only)
   std::size_t padding_tets = 0;
   double total_seconds = 0;
@@ -113,7 +125,8 @@ inline std::string to_json(const Meshing_report& r)
   o << "{\n    \"estimated_nodes\": " << num(r.estimated_nodes) << ",\n    \"nodes_per_dimension\": " << arr(r.nodes)
     << ",\n    \"packing_seconds\": " << arr(r.packing_seconds) << ",\n    \"packing_iterations\": "
     << arr(r.packing_iterations) << ",\n    \"packing_converged\": " << conv
-    << ",\n    \"boundary_triangles\": " << r.boundary_triangles << ",\n    \"boundary_seconds\": "
+    << ",\n    \"boundary_triangles\": " << r.boundary_triangles << ",\n    \"added_boundary_nodes\": "
+    << r.added_boundary_nodes << ",\n    \"boundary_repair_rounds\": " << r.boundary_repair_rounds << ",\n    \"boundary_seconds\": "
     << num(r.boundary_seconds) << ",\n    \"tets\": " << r.tets << ",\n    \"delaunay_tets\": " << r.front.delaunay_tets
     << ",\n    \"best_quality_tets\": " << r.front.best_quality_tets << ",\n    \"undo_rounds\": " << r.front.undo_rounds
     << ",\n    \"undone_tets\": " << r.front.undone_tets << ",\n    \"search_tets\": " << r.front.search_tets
@@ -127,7 +140,10 @@ inline std::string to_json(const Meshing_report& r)
     << ", \"flips_4_4\": " << r.improvement.flips_4_4 << ", \"edge_removals\": " << r.improvement.edge_removals
     << ", \"smoothing_moves\": " << r.improvement.smoothing_moves << ", \"seconds\": " << num(r.improvement.seconds)
     << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
-    << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"total_seconds\": "
+    << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"surface_distance\": "
+    << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
+    << ",\n    \"input_to_boundary_distance\": " << num(r.input_to_boundary_distance)
+    << ",\n    \"volume_error\": " << num(r.volume_error) << ",\n    \"total_seconds\": "
     << num(r.total_seconds) << "\n  }";
   return o.str();
 }
@@ -148,7 +164,11 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
                                                ? ", converged"
                                                : ", iteration cap reached")
     << ")\n";
-  o << "boundary: " << r.boundary_triangles << " triangles, " << r.boundary_seconds << " s\n";
+  o << "boundary: " << r.boundary_triangles << " triangles, " << r.boundary_seconds << " s";
+  if(r.added_boundary_nodes > 0)
+    o << " (" << r.added_boundary_nodes << " input vertices kept as nodes, " << r.boundary_repair_rounds
+      << " repair rounds)";
+  o << "\n";
   o << "front:    " << r.tets << " tets, " << r.front_seconds << " s (modified Delaunay " << r.front.delaunay_tets
     << ", best quality " << r.front.best_quality_tets << ", undo rounds " << r.front.undo_rounds << ", cavities " << r.front.cavities
     << ", Steiner points " << r.front.steiner_points << ")\n";
@@ -164,6 +184,11 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
       << i.flips_3_2 << ", 4-4 " << i.flips_4_4 << ", edge removals " << i.edge_removals << ", moves "
       << i.smoothing_moves << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
   }
+  o.precision(3);
+  o << "surface:  boundary within " << r.surface_distance << " of the input (" << 100 * r.surface_distance_relative
+    << " % of the diagonal), input within " << r.input_to_boundary_distance << " of the boundary, volume error "
+    << 100 * r.volume_error << " %\n";
+  o.precision(2);
   o << "total:    " << r.total_seconds << " s\n";
   out << o.str();
 }
@@ -294,6 +319,87 @@ struct Domain_mesh {
   std::vector<C3t3_vertex_location> locations;
 };
 
+/// The curve id of each feature edge of the boundary front. A chain of
+/// feature edges between two corners lies on one curve: the curve of a curve
+/// node on it (packed curve nodes know theirs; nodes the front added inherit
+/// it along the chain, and get it in `locations`), or, for a chain of corners
+/// and added nodes only, the domain curve with these two ends whose length is
+/// closest to the chain's.
+template <typename Kernel, typename MeshDomain, typename Point>
+std::vector<int> feature_edge_curves(const MeshDomain& domain, const std::vector<std::array<int, 2>>& edges,
+                                     const std::vector<Point>& points, std::vector<C3t3_vertex_location>& locations)
+{
+  std::vector<int> curve(edges.size(), -1);
+  std::map<int, std::vector<int>> edges_at; // node -> incident feature edges
+  for(std::size_t i = 0; i < edges.size(); ++i)
+    for(int v : edges[i])
+      edges_at[v].push_back(int(i));
+  auto is_chain_vertex = [&](int v) { return locations[std::size_t(v)].dimension == 1 && edges_at[v].size() == 2; };
+  std::vector<char> done(edges.size(), 0);
+  for(std::size_t start = 0; start < edges.size(); ++start) {
+    if(done[start])
+      continue;
+    // collect the chain through `start`: walk both ways across curve nodes
+    std::vector<int> chain{int(start)}, ends;
+    done[start] = 1;
+    for(int side = 0; side < 2; ++side) {
+      int e = int(start), v = edges[start][side];
+      while(is_chain_vertex(v)) {
+        const auto& at = edges_at[v];
+        const int next = at[0] == e ? at[1] : at[0];
+        if(done[std::size_t(next)])
+          break; // a closed loop of curve nodes
+        done[std::size_t(next)] = 1;
+        chain.push_back(next);
+        e = next;
+        v = edges[std::size_t(e)][0] == v ? edges[std::size_t(e)][1] : edges[std::size_t(e)][0];
+      }
+      ends.push_back(v);
+    }
+    int id = -1;
+    double length = 0;
+    for(int e : chain) {
+      for(int v : edges[std::size_t(e)])
+        if(locations[std::size_t(v)].dimension == 1 && locations[std::size_t(v)].index >= 0)
+          id = locations[std::size_t(v)].index;
+      length += std::sqrt(CGAL::squared_distance(points[std::size_t(edges[std::size_t(e)][0])],
+                                                 points[std::size_t(edges[std::size_t(e)][1])]));
+    }
+    if(id < 0) {
+      // between two corners: the curve whose ends they are, the closest in length
+      typedef typename Kernel::Point_3 Domain_point;
+      std::vector<std::tuple<typename MeshDomain::Curve_index, std::pair<Domain_point, typename MeshDomain::Index>,
+                             std::pair<Domain_point, typename MeshDomain::Index>>>
+          curves;
+      domain.get_curves(std::back_inserter(curves));
+      auto same = [](const Domain_point& p, const Point& q) {
+        return CGAL::to_double(p.x()) == q.x() && CGAL::to_double(p.y()) == q.y() && CGAL::to_double(p.z()) == q.z();
+      };
+      const Point &a = points[std::size_t(ends[0])], &b = points[std::size_t(ends[1])];
+      double best = std::numeric_limits<double>::max();
+      for(const auto& c : curves) {
+        const Domain_point &ca = std::get<1>(c).first, &cb = std::get<2>(c).first;
+        if(!((same(ca, a) && same(cb, b)) || (same(ca, b) && same(cb, a))))
+          continue;
+        const double d = std::abs(CGAL::to_double(domain.curve_length(std::get<0>(c))) - length);
+        if(d < best) {
+          best = d;
+          id = static_cast<int>(std::get<0>(c));
+        }
+      }
+    }
+    if(id < 0)
+      throw Meshing_failure("boundary front: a chain of feature edges between two corners lies on no curve of the domain");
+    for(int e : chain) {
+      curve[std::size_t(e)] = id;
+      for(int v : edges[std::size_t(e)])
+        if(locations[std::size_t(v)].dimension == 1 && locations[std::size_t(v)].index < 0)
+          locations[std::size_t(v)].index = id;
+    }
+  }
+  return curve;
+}
+
 /// The whole pipeline up to the domain's tet mesh: packing, boundary front,
 /// advancing front, validity.
 template <typename MeshDomain, typename MetricField>
@@ -301,7 +407,6 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
 {
   namespace F = Bubble_mesh_3::internal::front;
   typedef typename MetricField::Kernel K;
-  typedef typename MeshDomain::Curve_index Curve_index;
   const auto t_start = std::chrono::steady_clock::now();
   Meshing_report local_report;
   Meshing_report& rep = s.report ? *s.report : local_report;
@@ -468,45 +573,23 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   say("boundary front: " + std::to_string(bf.triangles.size()) + " triangles, " + std::to_string(rep.boundary_seconds) +
       " s");
   stop("the boundary front");
+  // input vertices the front kept as nodes (it counts them); their curve ids follow
+  for(const auto& a : bf.added_nodes) {
+    add_point(typename K::Point_3(a.point[0], a.point[1], a.point[2]), a.dimension, a.dimension == 2 ? a.patch : -1);
+    if(a.dimension == 0)
+      m.corners.push_back(static_cast<int>(points.size()) - 1);
+  }
+  rep.added_boundary_nodes = bf.added_nodes.size();
+  rep.boundary_repair_rounds = bf.repair_rounds;
+  if(!bf.added_nodes.empty())
+    say("boundary front: kept " + std::to_string(bf.added_nodes.size()) +
+        " input vertices as nodes where the packed nodes could not represent the surface");
   m.triangles = bf.triangles;
   m.triangle_refs = bf.patches;
-  // feature edges: the curve of a curve node, or the curve joining two corners
-  {
-    std::vector<std::tuple<Curve_index, std::pair<typename K::Point_3, typename MeshDomain::Index>,
-                           std::pair<typename K::Point_3, typename MeshDomain::Index>>>
-        curves;
-    domain.get_curves(std::back_inserter(curves));
-    for(const auto& e : bf.feature_edges) {
-      int curve = -1;
-      for(int v : e)
-        if(out.locations[v].dimension == 1)
-          curve = out.locations[v].index;
-      if(curve < 0) {
-        // two corners: the curve whose ends they are, the closest in length
-        double best = std::numeric_limits<double>::max();
-        const double len = std::sqrt(CGAL::squared_distance(points[e[0]], points[e[1]]));
-        for(const auto& c : curves) {
-          const auto& a = std::get<1>(c).first;
-          const auto& b = std::get<2>(c).first;
-          auto same = [](const typename K::Point_3& p, const typename Anisotropic_advancing_front_3<MetricField>::Point_3& q) {
-            return CGAL::to_double(p.x()) == q.x() && CGAL::to_double(p.y()) == q.y() && CGAL::to_double(p.z()) == q.z();
-          };
-          if(!((same(a, points[e[0]]) && same(b, points[e[1]])) || (same(a, points[e[1]]) && same(b, points[e[0]]))))
-            continue;
-          const double d = std::abs(CGAL::to_double(domain.curve_length(std::get<0>(c))) - len);
-          if(d < best) {
-            best = d;
-            curve = static_cast<int>(std::get<0>(c));
-          }
-        }
-      }
-      if(curve < 0)
-        throw Meshing_failure("boundary front: a feature edge between two corners lies on no curve of the domain");
-      m.edges.push_back(e);
-      m.edge_refs.push_back(curve);
-    }
-  }
-
+  m.edges = bf.feature_edges;
+  m.edge_refs = feature_edge_curves<K>(domain, bf.feature_edges, points, out.locations);
+  for(std::size_t i = points.size() - bf.added_nodes.size(); i < points.size(); ++i)
+    m.point_refs[i] = out.locations[i].index;
   // 3. interior nodes, then the advancing front. The front's chords cut
   //    curved walls: an interior node packed between a chord and the true
   //    surface lies outside the front, and one very close to a front triangle
@@ -646,6 +729,11 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
     throw Meshing_failure("the mesh failed the validity check (" + std::to_string(vr.number_of_problems) +
                           " problems; first: " + first + ")");
   }
+  const Surface_fidelity fidelity = surface_fidelity(surface, m);
+  rep.surface_distance = fidelity.mesh_to_surface;
+  rep.surface_distance_relative = fidelity.diagonal > 0 ? fidelity.mesh_to_surface / fidelity.diagonal : 0;
+  rep.input_to_boundary_distance = fidelity.surface_to_mesh;
+  rep.volume_error = fidelity.volume_error;
   rep.total_seconds = seconds_since(t_start);
   return out;
 }

@@ -38,7 +38,9 @@
 //     comes from" (no fold); when no collapse is valid the star is
 //     re-triangulated in a local projection (ear clipping, per side of the
 //     curve for a curve vertex); when that fails too, edges around the vertex
-//     are flipped and the vertex is retried later;
+//     are flipped and the vertex is retried later; a vertex that still cannot
+//     be removed is kept as an added node (the surface needs it there: a tip,
+//     a closed curve with too few nodes);
 //  5. metric Delaunay flips: an edge ab with opposite vertices c, d (same
 //     patch, not a feature edge, cd not an edge yet) is flipped when the
 //     angles at c and d, measured after mapping by Q of the metric at the
@@ -47,9 +49,18 @@
 //     sharper than max(current, max_flip_dihedral). Bounded passes.
 //  6. the result is checked (closed, edge- and vertex-manifold, oriented,
 //     positive volume, no degenerate triangle, feature edges are mesh edges,
-//     no self-intersection via PMP::does_self_intersect); any violation throws
-//     Meshing_failure.
+//     no self-intersection via PMP::self_intersections).
+//  7. repair: where step 6 finds a problem (two chords of a thin part that
+//     cross, a degenerate or non-manifold spot), the input vertices of the
+//     input faces under the offending triangles (and, round after round, a
+//     growing ring of input vertices around them) are kept as added nodes and
+//     the front is rebuilt. The last round keeps every input vertex and flips
+//     only inside input faces: the front is then the input surface itself,
+//     refined by the nodes, which is valid for any valid input. So a valid
+//     closed surface always gives a front; Meshing_failure is raised only if
+//     even that last round fails its checks.
 // Node positions never change: collapses always remove a non-node vertex.
+// Added nodes (kept input vertices) follow the given nodes in the numbering.
 #ifndef CGAL_BUBBLE_MESH_3_INTERNAL_FRONT_BOUNDARY_FRONT_H
 #define CGAL_BUBBLE_MESH_3_INTERNAL_FRONT_BOUNDARY_FRONT_H
 
@@ -125,12 +136,26 @@ struct Boundary_front_options {
   /// rounds without progress (after flips around stuck vertices) before
   /// giving up on removing the input vertices that are not nodes
   int max_stuck_rounds = 10;
-  /// run PMP::does_self_intersect on the result (throws Meshing_failure)
+  /// then a vertex closer than this (metric length) to a neighbour is
+  /// collapsed into it with the looser bound below; any other is kept as a node
+  double short_collapse_length = 0.5;
+  /// (degrees) bound on the turn of each triangle in such a collapse, from
+  /// the triangle it replaces and from its input face
+  double max_short_collapse_deviation = 85;
+  /// check the result for self-intersections (PMP::self_intersections)
   bool check_self_intersection = true;
+  /// rebuilds with more kept input vertices before the last one, which keeps
+  /// every input vertex (step 7)
+  int max_repair_rounds = 6;
 };
 
 struct Boundary_front {
-  /// node indices, outward oriented
+  /// input vertices the front kept as nodes where the given nodes could not
+  /// represent the surface; node i >= nodes.size() is added_nodes[i - nodes.size()]
+  /// (dimension 1: on a feature curve, 2: inside patch `patch`; 0 only if a
+  /// surface corner had no node, which the packer never leaves)
+  std::vector<Boundary_node> added_nodes;
+  /// node indices (the given nodes, then the added ones), outward oriented
   std::vector<std::array<int, 3>> triangles;
   /// patch id of each triangle
   std::vector<int> patches;
@@ -145,11 +170,13 @@ struct Boundary_front {
   std::size_t edge_splits = 0;        ///< nodes inserted on an edge
   std::size_t removed_vertices = 0;   ///< input vertices that were not nodes
   std::size_t collapses = 0;          ///< removed by edge collapse
+  std::size_t short_collapses = 0;    ///< removed by a collapse into a close node with the looser bound
   std::size_t fallback_retriangulations = 0; ///< removed by star re-triangulation
   std::size_t unstick_flips = 0;      ///< flips done to free stuck vertices
   std::size_t flips = 0;              ///< metric Delaunay flips (both passes)
   int flip_passes = 0;                ///< passes of the final flip loop
   bool input_reoriented = false;      ///< the input had negative volume: flipped
+  int repair_rounds = 0;              ///< rebuilds with more kept input vertices (step 7)
   double seconds = 0;
 };
 
@@ -213,21 +240,31 @@ class Front_builder {
   typedef CGAL::AABB_tree<Traits> Tree;
 
 public:
+  /// `keep`: input vertices to keep as nodes from the start (one flag per
+  /// input vertex, or empty); `input_faces_only`: flips never cross input
+  /// faces (the front stays on the input surface).
   Front_builder(const Boundary_surface& s, const std::vector<Boundary_node>& nodes, const MetricField& field,
-                const Boundary_front_options& o, Boundary_front& out)
-      : s_(s), nodes_(nodes), field_(field), o_(o), out_(out)
+                const Boundary_front_options& o, const std::vector<char>& keep, bool input_faces_only,
+                Boundary_front& out)
+      : s_(s), nodes_(nodes), field_(field), o_(o), keep_(keep), input_faces_only_(input_faces_only), out_(out)
   {}
 
-  void run()
+  /// Builds the front into `out`; returns the input faces under the
+  /// triangles that fail the final checks (empty: the front is valid), and
+  /// the first problem in `problem`.
+  std::vector<int> run(std::string& problem)
   {
     setup_surface();
     insert_nodes();
     check_corners();
+    for(std::size_t v = 0; v < keep_.size() && v < s_.points.size(); ++v)
+      if(keep_[v] && vnode_[v] < 0)
+        add_node_at(int(v));
     flip_passes();
     remove_non_nodes();
     out_.flip_passes = flip_passes();
     extract();
-    validate();
+    return validate(problem);
   }
 
 private:
@@ -806,7 +843,7 @@ private:
       for(std::size_t f = 0; f < n; ++f)
         for(int k = 0; k < 3 && falive_[f]; ++k) {
           const int a = tri_[f][k], b = tri_[f][(k + 1) % 3];
-          if(a < b && try_flip(a, b, true))
+          if(a < b && try_flip(a, b, true, input_faces_only_ ? forigin_[f] : -1))
             ++count;
         }
       out_.flips += count;
@@ -818,7 +855,9 @@ private:
 
   // ---------------------------------------------------------------- removal
   // quality of the worst new triangle of the collapse v -> w, -1 if invalid
-  double collapse_score(int v, int w)
+  double collapse_score(int v, int w) { return collapse_score(v, w, cos_dev_, cos_ref_); }
+
+  double collapse_score(int v, int w, double cos_dev, double cos_ref)
   {
     const auto& fn = fnbrs_[v];
     int other = -1;
@@ -855,7 +894,7 @@ private:
       if(degenerate(pos_[t[0]], pos_[t[1]], pos_[t[2]]))
         return -1;
       const Vec m = normal(t[0], t[1], t[2]).normalized();
-      if(m.dot(unit_normal(f)) < cos_dev_ || m.dot(ref_normal_[forigin_[f]]) < cos_ref_)
+      if(m.dot(unit_normal(f)) < cos_dev || m.dot(ref_normal_[forigin_[f]]) < cos_ref)
         return -1;
       q = std::min(q, shape_quality(pos_[t[0]], pos_[t[1]], pos_[t[2]]));
     }
@@ -1072,12 +1111,59 @@ private:
     return false;
   }
 
+  // the input face a flip of ab must stay in (-1: any)
+  int flip_origin(int a, int b) const
+  {
+    if(!input_faces_only_)
+      return -1;
+    const int f = face_of_directed(a, b);
+    return f < 0 ? -1 : forigin_[f];
+  }
+
+  // Keeps input vertex v as a node of the front (an added node).
+  void add_node_at(int v)
+  {
+    Boundary_node n;
+    n.point = {{pos_[v][0], pos_[v][1], pos_[v][2]}};
+    n.dimension = fnbrs_[v].empty() ? 2 : fnbrs_[v].size() == 2 ? 1 : 0;
+    n.patch = vfaces_[v].empty() ? -1 : fpatch_[vfaces_[v].front()];
+    vnode_[v] = int(nodes_.size() + out_.added_nodes.size());
+    out_.added_nodes.push_back(n);
+  }
+
+  // The collapse of v into its closest neighbour within metric distance
+  // short_collapse_length, with the looser deviation bound.
+  bool short_collapse(int v)
+  {
+    std::vector<int> candidates;
+    if(fnbrs_[v].empty())
+      neighbours(v, candidates);
+    else
+      candidates = fnbrs_[v];
+    const Metric_3 m = metric_at(pos_[v]);
+    const double degree = 3.14159265358979323846 / 180;
+    const double c = std::cos(o_.max_short_collapse_deviation * degree);
+    int best = -1;
+    double best_length = o_.short_collapse_length;
+    for(int w : candidates) {
+      const double l = m.length(pos_[w] - pos_[v]);
+      if(l < best_length && collapse_score(v, w, c, c) > 0) {
+        best_length = l;
+        best = w;
+      }
+    }
+    if(best < 0)
+      return false;
+    collapse(v, best);
+    return true;
+  }
+
   bool unstick(int v)
   {
     std::vector<int> nb;
     neighbours(v, nb);
     for(int x : nb)
-      if(!is_feature(v, x) && (try_flip(v, x, false) || try_flip(x, v, false))) {
+      if(!is_feature(v, x) && (try_flip(v, x, false, flip_origin(v, x)) || try_flip(x, v, false, flip_origin(x, v)))) {
         ++out_.unstick_flips;
         return true;
       }
@@ -1102,13 +1188,25 @@ private:
         bool any = false;
         for(int v : left)
           any = unstick(v) || any;
-        if(!any || ++stuck_rounds > o_.max_stuck_rounds)
-          throw Meshing_failure("boundary front: cannot remove " + std::to_string(left.size()) +
-                                " surface vertices that are not nodes without making the surface non-manifold "
-                                "or folding it, e.g. vertex " + std::to_string(left[0]) + " " + str(pos_[left[0]]) +
-                                (fnbrs_[left[0]].empty() ? std::string(" (inside a patch)")
-                                                         : std::string(" (on a feature curve: does each closed curve "
-                                                                       "carry at least 3 nodes?)")));
+        if(!any || ++stuck_rounds > o_.max_stuck_rounds) {
+          // No collapse, re-triangulation or flip frees them. A vertex next
+          // to a node (metric distance < short_collapse_length) is collapsed
+          // into it if that only tilts triangles (by less than
+          // max_short_collapse_deviation, never flipping one): the geometric
+          // error is below that short distance, while a node kept there
+          // would make a needle. Any other one is a place where the surface
+          // needs a node (a tip, a short closed curve): it is kept.
+          std::vector<int> kept;
+          for(int v : left)
+            if(!short_collapse(v))
+              kept.push_back(v);
+            else
+              ++out_.removed_vertices, ++out_.short_collapses;
+          for(int v : kept)
+            if(!vdead_[v])
+              add_node_at(v);
+          left.clear();
+        }
       }
       todo.swap(left);
     }
@@ -1128,6 +1226,7 @@ private:
       }
       out_.triangles.push_back(t);
       out_.patches.push_back(fpatch_[f]);
+      out_origin_.push_back(forigin_[f]);
     }
     std::vector<std::pair<std::array<int, 2>, int>> fe;
     for(const auto& e : feature_) {
@@ -1143,37 +1242,61 @@ private:
     }
   }
 
-  void validate() const
+  Vec node_point(int i) const
+  {
+    const std::size_t n = nodes_.size();
+    return to_vec(std::size_t(i) < n ? nodes_[i].point : out_.added_nodes[std::size_t(i) - n].point);
+  }
+
+  // The final checks. Returns the input faces under the offending triangles
+  // (every input face when the problem has no place) and the first problem.
+  std::vector<int> validate(std::string& problem) const
   {
     const auto& T = out_.triangles;
-    const std::size_t n = nodes_.size();
-    auto fail = [](const std::string& m) { throw Meshing_failure("boundary front: " + m); };
+    const std::size_t n = nodes_.size() + out_.added_nodes.size();
+    std::vector<int> bad;
+    auto fail = [&](const std::string& m, std::initializer_list<int> triangles) {
+      if(problem.empty())
+        problem = m;
+      for(int t : triangles)
+        bad.push_back(out_origin_[std::size_t(t)]);
+    };
+    auto fail_everywhere = [&](const std::string& m) {
+      if(problem.empty())
+        problem = m;
+      for(std::size_t f = 0; f < in_tri_.size(); ++f)
+        bad.push_back(int(f));
+    };
     std::unordered_map<std::uint64_t, int> directed;
     std::vector<std::vector<int>> around(n);
     double volume = 0;
-    const Vec o = n > 0 ? to_vec(nodes_[0].point) : Vec::Zero(); // volume relative to o (see setup_surface)
+    const Vec o = n > 0 ? node_point(0) : Vec::Zero(); // volume relative to o (see setup_surface)
     for(std::size_t f = 0; f < T.size(); ++f) {
       const auto& t = T[f];
-      const Vec a = to_vec(nodes_[t[0]].point), b = to_vec(nodes_[t[1]].point), c = to_vec(nodes_[t[2]].point);
+      const Vec a = node_point(t[0]), b = node_point(t[1]), c = node_point(t[2]);
       if(degenerate(a, b, c, 1e-12))
-        fail("triangle " + str(a) + str(b) + str(c) + " is degenerate");
+        fail("triangle " + str(a) + str(b) + str(c) + " is degenerate", {int(f)});
       volume += (a - o).dot((b - o).cross(c - o)) / 6;
       for(int k = 0; k < 3; ++k) {
         const int p = t[k], q = t[(k + 1) % 3];
         const std::uint64_t key = (std::uint64_t(std::uint32_t(p)) << 32) | std::uint32_t(q);
-        if(++directed[key] != 1)
-          fail("edge " + std::to_string(p) + "-" + std::to_string(q) + " is used twice in one direction");
+        auto it = directed.emplace(key, int(f));
+        if(!it.second)
+          fail("edge " + std::to_string(p) + "-" + std::to_string(q) + " is used twice in one direction",
+               {int(f), it.first->second});
         around[p].push_back(int(f));
       }
     }
     for(const auto& e : directed) {
       const std::uint64_t rev = (e.first << 32) | (e.first >> 32);
       if(directed.count(rev) == 0)
-        fail("the surface is not closed");
+        fail("the surface is not closed", {e.second});
     }
     for(std::size_t v = 0; v < n; ++v) {
-      if(around[v].empty())
-        fail("node " + std::to_string(v) + " is not used");
+      if(around[v].empty()) {
+        fail_everywhere("node " + std::to_string(v) + " is not used");
+        continue;
+      }
       // the faces around v form a single cycle
       std::unordered_map<int, int> next;
       for(int f : around[v]) {
@@ -1193,33 +1316,52 @@ private:
         x = it->second;
         ++len;
       } while(x != start && len <= next.size());
-      if(len != next.size())
-        fail("node " + std::to_string(v) + " is not vertex-manifold");
+      if(len != next.size()) {
+        fail("node " + std::to_string(v) + " is not vertex-manifold", {});
+        for(int f : around[v])
+          bad.push_back(out_origin_[std::size_t(f)]);
+      }
     }
     if(!(volume > 0))
-      fail("the surface has non-positive volume");
+      fail_everywhere("the surface has non-positive volume");
     for(const auto& e : out_.feature_edges)
       if(directed.count((std::uint64_t(std::uint32_t(e[0])) << 32) | std::uint32_t(e[1])) == 0)
-        fail("a feature edge is not a mesh edge");
-    if(o_.check_self_intersection) {
+        fail_everywhere("a feature edge is not a mesh edge");
+    if(o_.check_self_intersection && bad.empty()) {
       typedef CGAL::Surface_mesh<K::Point_3> Mesh;
       Mesh sm;
       std::vector<Mesh::Vertex_index> vs;
-      for(const auto& p : nodes_)
-        vs.push_back(sm.add_vertex(K::Point_3(p.point[0], p.point[1], p.point[2])));
+      for(std::size_t i = 0; i < n; ++i) {
+        const Vec p = node_point(int(i));
+        vs.push_back(sm.add_vertex(K::Point_3(p[0], p[1], p[2])));
+      }
       for(const auto& t : T)
-        if(sm.add_face(vs[t[0]], vs[t[1]], vs[t[2]]) == Mesh::null_face())
-          fail("the surface cannot be built as a Surface_mesh");
-      if(CGAL::Polygon_mesh_processing::does_self_intersect(sm))
-        fail("the surface intersects itself");
+        if(sm.add_face(vs[t[0]], vs[t[1]], vs[t[2]]) == Mesh::null_face()) {
+          fail_everywhere("the surface cannot be built as a Surface_mesh");
+          return bad;
+        }
+      std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+      CGAL::Polygon_mesh_processing::self_intersections(sm, std::back_inserter(pairs));
+      if(!pairs.empty())
+        problem = "the surface intersects itself (" + std::to_string(pairs.size()) + " pairs of triangles)";
+      for(const auto& fp : pairs) {
+        bad.push_back(out_origin_[std::size_t(fp.first)]);
+        bad.push_back(out_origin_[std::size_t(fp.second)]);
+      }
     }
+    std::sort(bad.begin(), bad.end());
+    bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+    return bad;
   }
 
   const Boundary_surface& s_;
   const std::vector<Boundary_node>& nodes_;
   const MetricField& field_;
   const Boundary_front_options& o_;
+  const std::vector<char>& keep_;
+  const bool input_faces_only_;
   Boundary_front& out_;
+  std::vector<int> out_origin_; // input face of each output triangle
 
   double L_ = 0, tol_ = 0, snap_ = 0, cos_dev_ = 0, cos_ref_ = 0, max_dihedral_ = 0;
   std::vector<std::array<int, 3>> in_tri_;
@@ -1251,9 +1393,55 @@ Boundary_front build_boundary_front(const Boundary_surface& surface, const std::
                                     const MetricField& field, const Boundary_front_options& options = {})
 {
   const auto start = std::chrono::steady_clock::now();
+  // Step 7: rebuild with more kept input vertices until the checks pass; the
+  // last round keeps them all and flips only inside input faces.
+  const int last_round = std::max(1, options.max_repair_rounds);
+  std::vector<char> keep;
+  std::vector<std::vector<int>> faces_of_vertex; // of the input, built on the first repair
   Boundary_front out;
-  boundary_front_detail::Front_builder<MetricField> builder(surface, nodes, field, options, out);
-  builder.run();
+  for(int round = 0;; ++round) {
+    out = Boundary_front();
+    out.repair_rounds = round;
+    const bool input_faces_only = round == last_round;
+    if(input_faces_only)
+      keep.assign(surface.points.size(), 1);
+    boundary_front_detail::Front_builder<MetricField> builder(surface, nodes, field, options, keep, input_faces_only,
+                                                              out);
+    std::string problem;
+    const std::vector<int> bad = builder.run(problem);
+    if(bad.empty())
+      break;
+    if(input_faces_only)
+      throw Meshing_failure("boundary front: " + problem +
+                            ", even with every input vertex kept (the nodes do not fit the surface)");
+    // keep the vertices of the offending input faces and `round` rings around them
+    if(faces_of_vertex.empty()) {
+      faces_of_vertex.resize(surface.points.size());
+      for(std::size_t f = 0; f < surface.triangles.size(); ++f)
+        for(int v : surface.triangles[f])
+          if(v >= 0 && std::size_t(v) < surface.points.size())
+            faces_of_vertex[std::size_t(v)].push_back(int(f));
+    }
+    keep.resize(surface.points.size(), 0);
+    std::vector<int> ring;
+    for(int f : bad)
+      for(int v : surface.triangles[std::size_t(f)])
+        if(!keep[std::size_t(v)]) {
+          keep[std::size_t(v)] = 1;
+          ring.push_back(v);
+        }
+    for(int r = 0; r < round; ++r) {
+      std::vector<int> next;
+      for(int v : ring)
+        for(int f : faces_of_vertex[std::size_t(v)])
+          for(int w : surface.triangles[std::size_t(f)])
+            if(!keep[std::size_t(w)]) {
+              keep[std::size_t(w)] = 1;
+              next.push_back(w);
+            }
+      ring.swap(next);
+    }
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
