@@ -50,6 +50,7 @@ struct Advancing_front_statistics {
   std::size_t tetgen_fills = 0;       ///< cavities closed by TetGen
   std::size_t steiner_points = 0;
   std::size_t cavity_tets = 0;        ///< tets created by the cavity fillers
+  std::size_t cavity_enlargements = 0; ///< fills retried on a cavity enlarged by undone tets
   std::size_t unused_nodes = 0;       ///< nodes no tet uses (outside the boundary)
   double seconds = 0;
 };
@@ -115,6 +116,9 @@ public:
     double search_radius = 1.0;
     /// rounds of undoing the tets next to a stuck front before filling the cavities
     int maximum_undo_rounds = 4;
+    /// times a cavity the fillers cannot close is enlarged (by 1, 2, ...
+    /// layers of undone tets) and filled again before `Meshing_failure`
+    int maximum_cavity_enlargements = 4;
     /// allow Steiner points strictly inside a cavity that no node can close
     bool allow_steiner_points = true;
     /// called every `progress_interval` tets with (tets, front triangles)
@@ -888,17 +892,33 @@ private:
     namespace F = Bubble_mesh_3::internal::front;
     if(alive_faces_ == 0)
       return;
-    std::vector<Triangle> remaining;
-    for(const auto& kv : face_of_)
-      remaining.push_back(faces_[kv.second].v);
-    std::sort(remaining.begin(), remaining.end());
-    std::vector<int> free_nodes;
-    for(int v = 0; v < static_cast<int>(pts_.size()); ++v)
-      if(tet_count_[v] == 0 && front_count_[v] == 0)
-        free_nodes.push_back(v);
+    // A cavity TetGen cannot fill without splitting its triangles (a thin
+    // gap, an edge shared by two cavities) is enlarged by undoing layers of
+    // tets around it, which gives the filler room, and tried again.
     F::Cavity_fill_statistics cs;
-    const std::vector<Tetrahedron> filled =
-        F::fill_cavities(remaining, free_nodes, pts_, param_.allow_steiner_points, traits_, cs);
+    std::vector<Tetrahedron> filled;
+    for(int attempt = 0;; ++attempt) {
+      std::vector<Triangle> remaining;
+      for(const auto& kv : face_of_)
+        remaining.push_back(faces_[kv.second].v);
+      std::sort(remaining.begin(), remaining.end());
+      std::vector<int> free_nodes;
+      for(int v = 0; v < static_cast<int>(pts_.size()); ++v)
+        if(tet_count_[v] == 0 && front_count_[v] == 0)
+          free_nodes.push_back(v);
+      const std::size_t points_before = pts_.size();
+      cs = F::Cavity_fill_statistics();
+      try {
+        filled = F::fill_cavities(remaining, free_nodes, pts_, param_.allow_steiner_points, traits_, cs);
+        break;
+      } catch(const Bubble_mesh_3::Meshing_failure&) {
+        pts_.resize(points_before); // Steiner points of fills that were not kept
+        if(attempt >= param_.maximum_cavity_enlargements)
+          throw;
+        ++stats_.cavity_enlargements;
+        undo_layers(attempt + 1);
+      }
+    }
     stats_.cavities += cs.cavities;
     stats_.vertex_star_fills += cs.vertex_star_fills;
     stats_.steiner_star_fills += cs.steiner_star_fills;

@@ -13,6 +13,8 @@
 #include <CGAL/Bubble_mesh_3/internal/c3t3/exterior_padding.h>
 #include <CGAL/Bubble_mesh_3/internal/c3t3/tet_soup_to_c3t3.h>
 #include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
+#include <CGAL/Bubble_mesh_3/internal/front/feature_chains.h>
+#include <CGAL/Bubble_mesh_3/internal/improve/input_projections.h>
 #include <CGAL/Bubble_mesh_3/internal/json.h>
 #include <CGAL/Bubble_mesh_3/internal/surface_fidelity.h>
 #include <CGAL/Bubble_mesh_3/parameters.h>
@@ -38,6 +40,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <set>
 #include <memory>
 #include <ostream>
 #include <sstream>
@@ -319,83 +322,63 @@ struct Domain_mesh {
   std::vector<C3t3_vertex_location> locations;
 };
 
-/// The curve id of each feature edge of the boundary front. A chain of
-/// feature edges between two corners lies on one curve: the curve of a curve
-/// node on it (packed curve nodes know theirs; nodes the front added inherit
-/// it along the chain, and get it in `locations`), or, for a chain of corners
-/// and added nodes only, the domain curve with these two ends whose length is
-/// closest to the chain's.
-template <typename Kernel, typename MeshDomain, typename Point>
-std::vector<int> feature_edge_curves(const MeshDomain& domain, const std::vector<std::array<int, 2>>& edges,
-                                     const std::vector<Point>& points, std::vector<C3t3_vertex_location>& locations)
+/// The domain's curve id of each feature chain of the input surface: the
+/// curve of a packed curve node on a front feature edge over that chain, or,
+/// for a chain without one (between two corners, all its nodes added by the
+/// boundary front), the domain curve with the same two ends whose length is
+/// closest to the chain's. -1 for a chain the front does not use.
+template <typename Kernel, typename MeshDomain>
+std::vector<int> curves_of_feature_chains(const MeshDomain& domain, const front::Boundary_surface& surface,
+                                          const front::Feature_chains& chains, const front::Boundary_front& bf,
+                                          const std::vector<C3t3_vertex_location>& locations)
 {
-  std::vector<int> curve(edges.size(), -1);
-  std::map<int, std::vector<int>> edges_at; // node -> incident feature edges
-  for(std::size_t i = 0; i < edges.size(); ++i)
-    for(int v : edges[i])
-      edges_at[v].push_back(int(i));
-  auto is_chain_vertex = [&](int v) { return locations[std::size_t(v)].dimension == 1 && edges_at[v].size() == 2; };
-  std::vector<char> done(edges.size(), 0);
-  for(std::size_t start = 0; start < edges.size(); ++start) {
-    if(done[start])
+  std::vector<int> curve(chains.chains.size(), -1);
+  std::vector<char> used(chains.chains.size(), 0);
+  for(std::size_t i = 0; i < bf.feature_edges.size(); ++i) {
+    const int chain = chains.chain_of_edge[std::size_t(bf.feature_edge_sources[i])];
+    used[std::size_t(chain)] = 1;
+    for(int v : bf.feature_edges[i])
+      if(locations[std::size_t(v)].dimension == 1 && locations[std::size_t(v)].index >= 0)
+        curve[std::size_t(chain)] = locations[std::size_t(v)].index;
+  }
+  typedef typename Kernel::Point_3 Point;
+  std::vector<std::tuple<typename MeshDomain::Curve_index, std::pair<Point, typename MeshDomain::Index>,
+                         std::pair<Point, typename MeshDomain::Index>>>
+      curves;
+  domain.get_curves(std::back_inserter(curves));
+  for(std::size_t c = 0; c < curve.size(); ++c) {
+    if(curve[c] >= 0 || !used[c])
       continue;
-    // collect the chain through `start`: walk both ways across curve nodes
-    std::vector<int> chain{int(start)}, ends;
-    done[start] = 1;
-    for(int side = 0; side < 2; ++side) {
-      int e = int(start), v = edges[start][side];
-      while(is_chain_vertex(v)) {
-        const auto& at = edges_at[v];
-        const int next = at[0] == e ? at[1] : at[0];
-        if(done[std::size_t(next)])
-          break; // a closed loop of curve nodes
-        done[std::size_t(next)] = 1;
-        chain.push_back(next);
-        e = next;
-        v = edges[std::size_t(e)][0] == v ? edges[std::size_t(e)][1] : edges[std::size_t(e)][0];
-      }
-      ends.push_back(v);
-    }
-    int id = -1;
-    double length = 0;
-    for(int e : chain) {
-      for(int v : edges[std::size_t(e)])
-        if(locations[std::size_t(v)].dimension == 1 && locations[std::size_t(v)].index >= 0)
-          id = locations[std::size_t(v)].index;
-      length += std::sqrt(CGAL::squared_distance(points[std::size_t(edges[std::size_t(e)][0])],
-                                                 points[std::size_t(edges[std::size_t(e)][1])]));
-    }
-    if(id < 0) {
-      // between two corners: the curve whose ends they are, the closest in length
-      typedef typename Kernel::Point_3 Domain_point;
-      std::vector<std::tuple<typename MeshDomain::Curve_index, std::pair<Domain_point, typename MeshDomain::Index>,
-                             std::pair<Domain_point, typename MeshDomain::Index>>>
-          curves;
-      domain.get_curves(std::back_inserter(curves));
-      auto same = [](const Domain_point& p, const Point& q) {
-        return CGAL::to_double(p.x()) == q.x() && CGAL::to_double(p.y()) == q.y() && CGAL::to_double(p.z()) == q.z();
-      };
-      const Point &a = points[std::size_t(ends[0])], &b = points[std::size_t(ends[1])];
-      double best = std::numeric_limits<double>::max();
-      for(const auto& c : curves) {
-        const Domain_point &ca = std::get<1>(c).first, &cb = std::get<2>(c).first;
-        if(!((same(ca, a) && same(cb, b)) || (same(ca, b) && same(cb, a))))
-          continue;
-        const double d = std::abs(CGAL::to_double(domain.curve_length(std::get<0>(c))) - length);
-        if(d < best) {
-          best = d;
-          id = static_cast<int>(std::get<0>(c));
-        }
+    const auto& a = surface.points[std::size_t(chains.chains[c].ends[0])];
+    const auto& b = surface.points[std::size_t(chains.chains[c].ends[1])];
+    auto same = [](const Point& p, const std::array<double, 3>& q) {
+      return CGAL::to_double(p.x()) == q[0] && CGAL::to_double(p.y()) == q[1] && CGAL::to_double(p.z()) == q[2];
+    };
+    // a closed loop without corner: the domain's cycle through one of its vertices
+    const bool loop = chains.chains[c].ends[0] == chains.chains[c].ends[1];
+    std::set<std::array<double, 3>> loop_points;
+    if(loop)
+      for(int e : chains.chains[c].edges)
+        for(int v : surface.feature_edges[std::size_t(e)])
+          loop_points.insert(surface.points[std::size_t(v)]);
+    auto on_loop = [&](const Point& p) {
+      return loop_points.count({{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}}) != 0;
+    };
+    double best = std::numeric_limits<double>::max();
+    for(const auto& dc : curves) {
+      const Point &ca = std::get<1>(dc).first, &cb = std::get<2>(dc).first;
+      const bool ends_match = loop ? ca == cb && on_loop(ca)
+                                   : (same(ca, a) && same(cb, b)) || (same(ca, b) && same(cb, a));
+      if(!ends_match)
+        continue;
+      const double d = std::abs(CGAL::to_double(domain.curve_length(std::get<0>(dc))) - chains.chains[c].length);
+      if(d < best) {
+        best = d;
+        curve[c] = static_cast<int>(std::get<0>(dc));
       }
     }
-    if(id < 0)
-      throw Meshing_failure("boundary front: a chain of feature edges between two corners lies on no curve of the domain");
-    for(int e : chain) {
-      curve[std::size_t(e)] = id;
-      for(int v : edges[std::size_t(e)])
-        if(locations[std::size_t(v)].dimension == 1 && locations[std::size_t(v)].index < 0)
-          locations[std::size_t(v)].index = id;
-    }
+    if(curve[c] < 0)
+      throw Meshing_failure("boundary front: a feature curve of the surface is not a curve of the domain");
   }
   return curve;
 }
@@ -586,10 +569,42 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
         " input vertices as nodes where the packed nodes could not represent the surface");
   m.triangles = bf.triangles;
   m.triangle_refs = bf.patches;
+  // feature edges: the curve of the input chain each one runs along
+  std::vector<char> is_corner(surface.points.size(), 0);
+  {
+    std::map<std::array<double, 3>, int> vertex_at;
+    for(std::size_t v = 0; v < surface.points.size(); ++v)
+      vertex_at.emplace(surface.points[v], int(v));
+    for(int c : m.corners) {
+      const auto& p = m.points[std::size_t(c)];
+      const auto it = vertex_at.find(p);
+      int v = it != vertex_at.end() ? it->second : -1;
+      if(v < 0) { // off by a rounding: the closest input vertex
+        double best = std::numeric_limits<double>::max();
+        for(std::size_t u = 0; u < surface.points.size(); ++u) {
+          const auto& q = surface.points[u];
+          const double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+          if(d < best) {
+            best = d;
+            v = int(u);
+          }
+        }
+      }
+      if(v >= 0)
+        is_corner[std::size_t(v)] = 1;
+    }
+  }
+  const F::Feature_chains chains = F::feature_chains(surface, is_corner);
+  const std::vector<int> chain_curves = curves_of_feature_chains<K>(domain, surface, chains, bf, out.locations);
   m.edges = bf.feature_edges;
-  m.edge_refs = feature_edge_curves<K>(domain, bf.feature_edges, points, out.locations);
-  for(std::size_t i = points.size() - bf.added_nodes.size(); i < points.size(); ++i)
-    m.point_refs[i] = out.locations[i].index;
+  for(std::size_t i = 0; i < bf.feature_edges.size(); ++i) {
+    const int curve = chain_curves[std::size_t(chains.chain_of_edge[std::size_t(bf.feature_edge_sources[i])])];
+    m.edge_refs.push_back(curve);
+    for(int v : bf.feature_edges[i])
+      if(out.locations[std::size_t(v)].dimension == 1 && out.locations[std::size_t(v)].index < 0)
+        out.locations[std::size_t(v)].index = m.point_refs[std::size_t(v)] = curve; // an added curve node
+  }
+
   // 3. interior nodes, then the advancing front. The front's chords cut
   //    curved walls: an interior node packed between a chord and the true
   //    surface lies outside the front, and one very close to a front triangle
@@ -682,32 +697,14 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
       io.time_limit_seconds = std::max(0.0, std::min(own, stop.remaining()));
     }
     install_stop_check(io, stop, "the improvement", false);
-    // vertices inside curved patches slide on the input surface of their patch
-    typedef std::vector<EK::Triangle_3> Patch_triangles;
-    typedef CGAL::AABB_triangle_primitive<EK, typename Patch_triangles::const_iterator> Patch_primitive;
-    typedef CGAL::AABB_tree<CGAL::AABB_traits<EK, Patch_primitive>> Patch_tree;
-    std::map<int, Patch_triangles> patch_triangles;
-    for(std::size_t f = 0; f < surface.triangles.size(); ++f) {
-      const auto& t = surface.triangles[f];
-      auto point = [&](int k) {
-        const auto& p = surface.points[std::size_t(t[std::size_t(k)])];
-        return EK::Point_3(p[0], p[1], p[2]);
-      };
-      patch_triangles[surface.patches[f]].emplace_back(point(0), point(1), point(2));
-    }
-    std::map<int, std::unique_ptr<Patch_tree>> patch_trees;
-    for(const auto& pt : patch_triangles) {
-      auto tree = std::make_unique<Patch_tree>(pt.second.begin(), pt.second.end());
-      tree->accelerate_distance_queries();
-      patch_trees.emplace(pt.first, std::move(tree));
-    }
-    io.surface_projection = [&patch_trees](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
-      const auto it = patch_trees.find(ref);
-      if(it == patch_trees.end())
-        return false;
-      const EK::Point_3 c = it->second->closest_point(EK::Point_3(p[0], p[1], p[2]));
-      q = {{c.x(), c.y(), c.z()}};
-      return true;
+    // boundary vertices inside curved patches and curved feature curves
+    // slide on the input surface and on its feature polylines
+    const improve::Input_projections projections(surface, chains, chain_curves);
+    io.surface_projection = [&projections](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
+      return projections.surface(ref, p, q);
+    };
+    io.curve_projection = [&projections](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
+      return projections.curve(ref, p, q);
     };
     rep.improvement = improve_mesh(m, field, io);
     rep.improved = true;

@@ -88,8 +88,12 @@
 ///   their vertices and refs and the vertices stay on the surface, but the
 ///   chords move: the meshed volume changes by that (still exactly the
 ///   volume the triangles enclose). `make_anisotropic_mesh_3()` passes the
-///   projection onto the input surface's patches. Curved feature curves are
-///   not smoothed.
+///   projection onto the input surface's patches. (4) *curve* (only with a
+///   `curve_projection`): the vertex is inside a curved feature curve; it
+///   moves along the chord of its two curve neighbours, every candidate
+///   projected onto the true curve, with the bounds of (3).
+///   `make_anisotropic_mesh_3()` passes the projection onto the input's
+///   feature polylines.
 /// - *sliver moves* (`sliver_moves`): a *sliver* here is a tet whose metric
 ///   edges are within a factor 2 of each other but whose smallest dihedral
 ///   angle is below 20 degrees and largest above 140 (four nearly coplanar
@@ -152,8 +156,9 @@
 /// (one evaluation per candidate tet; the boundary-layer field of the blob:
 /// 6-8 s for 22k tets).
 ///
-/// **Limitations of this version.** Vertices on curved feature curves never
-/// move, those on curved patches only with a `surface_projection`, and
+/// **Limitations of this version.** Vertices on curved feature curves move
+/// only with a `curve_projection`, those on curved patches only with a
+/// `surface_projection`, corners never, and
 /// triangles of curved patches are never flipped, so a bad tet whose
 /// vertices are all on curved features may stay. No vertex insertion or edge
 /// contraction: the number of vertices is fixed. No multi-face removal.
@@ -211,6 +216,14 @@ struct Improvement_options {
   /// vertices, so the meshed volume changes by the change of the chords.
   /// Unset (the default): vertices of curved patches never move.
   std::function<bool(int, const std::array<double, 3>&, std::array<double, 3>&)> surface_projection;
+  /// the true curves of the curved feature curves: `curve_projection(ref, p,
+  /// q)` writes into `q` the point of curve `ref` (an edge ref) closest to `p`
+  /// and returns true (false: no move). When set, with `boundary_smoothing`,
+  /// a vertex inside a curved feature curve (two feature edges of that ref,
+  /// not on a straight line) slides along the curve, strictly between its
+  /// two neighbours on it, under the same bounds as a surface move. Unset
+  /// (the default): vertices of curved feature curves never move.
+  std::function<bool(int, const std::array<double, 3>&, std::array<double, 3>&)> curve_projection;
   /// polled between operations (every 64 flips, every 16 vertex moves); a
   /// `true` ends the work as the time limit does (`time_limit_reached`).
   /// An exception thrown by it propagates and leaves `mesh` unchanged.
@@ -288,7 +301,8 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   if(mesh.tets.empty())
     return report;
   internal::improve::Mutable_tet_mesh work(mesh, options.ref_0_is_exterior,
-                                          options.boundary_smoothing ? options.surface_projection : nullptr);
+                                          options.boundary_smoothing ? options.surface_projection : nullptr,
+                                          options.boundary_smoothing ? options.curve_projection : nullptr);
   internal::improve::Improver_settings settings;
   settings.maximum_passes = std::max(0, options.maximum_passes);
   settings.time_limit_seconds = options.time_limit_seconds >= 0

@@ -659,17 +659,19 @@ private:
     // the tangent space of a constrained vertex, orthonormal in y = Q x
     int tangent_dimension = 3;
     Eigen::Vector3d tangent[2];
-    const bool on_surface = constraint.kind == Vertex_constraint::surface;
+    // curved patches and curved feature curves change the boundary: the same bounds on the move
+    const bool on_curve = constraint.kind == Vertex_constraint::curve;
+    const bool on_surface = constraint.kind == Vertex_constraint::surface || on_curve;
     Eigen::Vector3d surface_tangent[2];
     // surface vertices: the protected faces at v (outward from their tet) and
     // their normals now, to bound how far each one turns
     std::vector<std::pair<std::array<int, 2>, Eigen::Vector3d>> surface_faces;
     if(on_surface) {
       const Eigen::Vector3d normal = m_.boundary_normal(v);
-      if(!(normal.norm() > 0))
+      if(!on_curve && !(normal.norm() > 0))
         return false;
-      const Eigen::Vector3d axis = normal.normalized();
-      surface_tangent[0] = axis.unitOrthogonal();
+      const Eigen::Vector3d axis = on_curve ? constraint.axis : normal.normalized();
+      surface_tangent[0] = on_curve ? constraint.axis : axis.unitOrthogonal();
       surface_tangent[1] = axis.cross(surface_tangent[0]);
       for(const Ball_face& f : faces) {
         if(f.passive)
@@ -690,7 +692,7 @@ private:
         return false;
     }
     if(constrained) {
-      tangent_dimension = (constraint.kind == Vertex_constraint::plane || on_surface) ? 2 : 1;
+      tangent_dimension = (constraint.kind == Vertex_constraint::plane || (on_surface && !on_curve)) ? 2 : 1;
       for(int i = 0; i < tangent_dimension; ++i) {
         Eigen::Vector3d e = Q * (on_surface ? surface_tangent[i] : constraint.tangent[i]);
         for(int j = 0; j < i; ++j)
@@ -928,7 +930,8 @@ private:
       return true;
     const Vertex_constraint::Kind k = m_.constraint[std::size_t(v)].kind;
     return s_.boundary_smoothing &&
-           (k == Vertex_constraint::plane || k == Vertex_constraint::line || k == Vertex_constraint::surface);
+           (k == Vertex_constraint::plane || k == Vertex_constraint::line || k == Vertex_constraint::surface ||
+            k == Vertex_constraint::curve);
   }
 
   bool has_bad_tet() const

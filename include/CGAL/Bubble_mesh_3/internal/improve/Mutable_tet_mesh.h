@@ -109,10 +109,16 @@ struct Edge_key_hash {
 /// surface projection was given: the vertex slides in the tangent plane of
 /// its fan, every candidate projected onto the true surface of its patch.
 /// The boundary then changes (the triangles stay chords of the surface).
+///
+/// (4) *curve*: the vertex has two feature neighbours on the same curve (edge
+/// ref) but is not on a straight line through them (a curved feature curve),
+/// and a curve projection was given: it slides along the chord direction of
+/// its neighbours, every candidate projected onto the true curve, strictly
+/// between its two neighbours.
 struct Vertex_constraint {
-  enum Kind { free, plane, line, fixed, surface };
+  enum Kind { free, plane, line, fixed, surface, curve };
   Kind kind = free;
-  /// surface: the patch (triangle ref) of the fan
+  /// surface: the patch (triangle ref) of the fan; curve: the curve (edge ref)
   int patch = 0;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   /// plane: unit normal; line: unit direction
@@ -145,10 +151,13 @@ public:
       Surface_projection;
 
   /// With a `projection`, vertices inside one curved patch get the
-  /// `surface` constraint instead of staying fixed.
+  /// `surface` constraint instead of staying fixed; with a
+  /// `curve_projection` (same signature, the ref is an edge ref), vertices
+  /// inside a curved feature curve get the `curve` constraint.
   explicit Mutable_tet_mesh(const Indexed_tet_mesh_3& mesh, bool ref_0_is_exterior = false,
-                            Surface_projection projection = {})
-    : exterior_ref_0(ref_0_is_exterior), surface_projection(std::move(projection))
+                            Surface_projection projection = {}, Surface_projection curve_projection = {})
+    : exterior_ref_0(ref_0_is_exterior), surface_projection(std::move(projection)),
+      curve_projection(std::move(curve_projection))
   {
     const std::size_t np = mesh.points.size();
     points.resize(np);
@@ -275,6 +284,16 @@ public:
   Eigen::Vector3d project(int v, const Eigen::Vector3d& x) const
   {
     const Vertex_constraint& c = constraint[std::size_t(v)];
+    if(c.kind == Vertex_constraint::curve) {
+      std::array<double, 3> closest;
+      if(!curve_projection || !curve_projection(c.patch, {{x[0], x[1], x[2]}}, closest))
+        return points[std::size_t(v)];
+      const Eigen::Vector3d y(closest[0], closest[1], closest[2]);
+      // strictly between the neighbours along their chord
+      const Eigen::Vector3d a = points[std::size_t(c.ends[0])], b = points[std::size_t(c.ends[1])];
+      const double t = (y - a).dot(b - a) / (b - a).squaredNorm();
+      return t > 0.01 && t < 0.99 ? y : points[std::size_t(v)];
+    }
     if(c.kind == Vertex_constraint::surface) {
       std::array<double, 3> closest;
       if(!surface_projection || !surface_projection(c.patch, {{x[0], x[1], x[2]}}, closest))
@@ -611,6 +630,7 @@ public:
   std::vector<Vertex_constraint> constraint;
   bool exterior_ref_0 = false;
   Surface_projection surface_projection;
+  Surface_projection curve_projection;
 
 private:
   /// P(v) as an exact point
@@ -631,11 +651,15 @@ private:
       for(int v : face_patches[i].first.v)
         faces_at[std::size_t(v)].push_back(i);
     std::vector<std::vector<int>> feature_neighbours(np);
-    for(const auto& e : mesh.edges)
+    std::unordered_map<std::uint64_t, int> edge_refs; // feature edge -> its curve
+    for(std::size_t i = 0; i < mesh.edges.size(); ++i) {
+      const auto& e = mesh.edges[i];
       if(e[0] != e[1]) {
         feature_neighbours[std::size_t(e[0])].push_back(e[1]);
         feature_neighbours[std::size_t(e[1])].push_back(e[0]);
+        edge_refs.emplace(edge_key(e[0], e[1]), i < mesh.edge_refs.size() ? mesh.edge_refs[i] : 0);
       }
+    }
     std::vector<char> corner(np, 0);
     for(int c : mesh.corners)
       if(c >= 0 && std::size_t(c) < np)
@@ -719,8 +743,22 @@ private:
         c.tangent[1] = c.axis.cross(c.tangent[0]);
       } else if(fn.size() == 2 && fn[0] != fn[1]) {
         const Exact_point pa = X(fn[0]), pb = X(fn[1]);
-        if(!CGAL::collinear(pa, pv, pb) || !CGAL::collinear_are_strictly_ordered_along_line(pa, pv, pb))
-          continue; // not straight, or v is not between its neighbours
+        if(!CGAL::collinear(pa, pv, pb) || !CGAL::collinear_are_strictly_ordered_along_line(pa, pv, pb)) {
+          // a curved feature curve: slides along it when both edges are on one curve
+          auto ra = edge_refs.find(edge_key(int(v), fn[0])), rb = edge_refs.find(edge_key(int(v), fn[1]));
+          if(curve_projection && ra != edge_refs.end() && rb != edge_refs.end() && ra->second == rb->second &&
+             !CGAL::collinear(pa, pv, pb)) {
+            c.kind = Vertex_constraint::curve;
+            c.patch = ra->second;
+            c.origin = points[v];
+            c.axis = (points[std::size_t(fn[1])] - points[std::size_t(fn[0])]).normalized();
+            c.tangent[0] = c.axis;
+            c.tangent[1] = Eigen::Vector3d::Zero();
+            c.ends[0] = fn[0];
+            c.ends[1] = fn[1];
+          }
+          continue;
+        }
         // every face around v in a plane through the line
         bool through = true;
         for(const auto& l : link) {
