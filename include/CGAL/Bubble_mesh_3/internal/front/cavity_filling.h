@@ -24,8 +24,6 @@
 #include <CGAL/Bubble_mesh_3/internal/front/front_geometry.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <array>
 #include <map>
 #include <numeric>
@@ -205,17 +203,8 @@ std::vector<Tet> tetgen_fill(const std::vector<Tri>& faces, const std::vector<in
     const Tri lf{{local[f[0]], local[f[1]], local[f[2]]}};
     walls.insert(sorted(lf));
     auto it = tets_of.find(sorted(lf));
-    if(it == tets_of.end()) {
-      if(std::getenv("BM3_DUMP")) { // DEBUG
-        FILE* fp = std::fopen(std::getenv("BM3_DUMP"), "w");
-        std::fprintf(fp, "OFF\n%zu %zu 0\n", ids.size(), faces.size());
-        for(std::size_t i = 0; i < ids.size(); ++i) std::fprintf(fp, "%.17g %.17g %.17g\n", in.pointlist[3*i], in.pointlist[3*i+1], in.pointlist[3*i+2]);
-        for(const Tri& g : faces) std::fprintf(fp, "3 %d %d %d\n", local[g[0]], local[g[1]], local[g[2]]);
-        std::fclose(fp);
-        std::fprintf(stderr, "lost triangle %d %d %d, free nodes %zu, out points %d in %zu\n", lf[0], lf[1], lf[2], free_nodes.size(), out.numberofpoints, ids.size());
-      }
+    if(it == tets_of.end())
       throw Meshing_failure("advancing front: TetGen lost a cavity triangle");
-    }
     bool seeded = false;
     for(int t : it->second) {
       int w = -1;
