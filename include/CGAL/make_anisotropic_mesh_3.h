@@ -88,8 +88,8 @@ struct Meshing_report {
   /// patch nodes not used: on, or within metric distance 0.1 of, a feature
   /// curve bounding their patch (they would make sliver boundary triangles)
   std::size_t dropped_patch_nodes = 0;
-  /// input vertices the boundary front kept as nodes where the packed nodes
-  /// could not represent the surface (tips, thin parts, short closed curves)
+  /// nodes the boundary front added where the packed nodes could not
+  /// represent the surface (tips, thin parts, short closed curves)
   std::size_t added_boundary_nodes = 0;
   int boundary_repair_rounds = 0; ///< rebuilds of the boundary front to keep more of them
   double front_seconds = 0;
@@ -169,7 +169,8 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
     << ")\n";
   o << "boundary: " << r.boundary_triangles << " triangles, " << r.boundary_seconds << " s";
   if(r.added_boundary_nodes > 0)
-    o << " (" << r.added_boundary_nodes << " input vertices kept as nodes, " << r.boundary_repair_rounds
+    o << " (" << r.added_boundary_nodes << " nodes added where the packed ones could not represent the surface, "
+      << r.boundary_repair_rounds
       << " repair rounds)";
   o << "\n";
   o << "front:    " << r.tets << " tets, " << r.front_seconds << " s (modified Delaunay " << r.front.delaunay_tets
@@ -556,7 +557,7 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   say("boundary front: " + std::to_string(bf.triangles.size()) + " triangles, " + std::to_string(rep.boundary_seconds) +
       " s");
   stop("the boundary front");
-  // input vertices the front kept as nodes (it counts them); their curve ids follow
+  // nodes the front added (it counts them); their curve ids follow
   for(const auto& a : bf.added_nodes) {
     add_point(typename K::Point_3(a.point[0], a.point[1], a.point[2]), a.dimension, a.dimension == 2 ? a.patch : -1);
     if(a.dimension == 0)
@@ -565,8 +566,8 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   rep.added_boundary_nodes = bf.added_nodes.size();
   rep.boundary_repair_rounds = bf.repair_rounds;
   if(!bf.added_nodes.empty())
-    say("boundary front: kept " + std::to_string(bf.added_nodes.size()) +
-        " input vertices as nodes where the packed nodes could not represent the surface");
+    say("boundary front: added " + std::to_string(bf.added_nodes.size()) +
+        " nodes where the packed nodes could not represent the surface");
   m.triangles = bf.triangles;
   m.triangle_refs = bf.patches;
   // feature edges: the curve of the input chain each one runs along

@@ -628,10 +628,15 @@ Report check_front(const Boundary_surface& s, const std::vector<Boundary_node>& 
   std::vector<Boundary_node> nodes = given;
   nodes.insert(nodes.end(), f.added_nodes.begin(), f.added_nodes.end());
   for(const Boundary_node& a : f.added_nodes) {
-    bool at_input_vertex = false;
-    for(const auto& p : s.points)
-      at_input_vertex = at_input_vertex || (vec(p) - vec(a.point)).norm() == 0;
-    EXPECT_TRUE(at_input_vertex) << "an added node is not an input vertex";
+    // a patch node: an input vertex; a curve node: on an input feature edge
+    bool placed = false;
+    if(a.dimension == 2)
+      for(const auto& p : s.points)
+        placed = placed || (vec(p) - vec(a.point)).norm() == 0;
+    else
+      for(const auto& e : s.feature_edges)
+        placed = placed || segment_distance(vec(a.point), vec(s.points[e[0]]), vec(s.points[e[1]])) < 1e-12;
+    EXPECT_TRUE(placed) << "an added node of dimension " << a.dimension << " is not where it belongs";
     EXPECT_TRUE(a.dimension == 1 || a.dimension == 2) << "an added node of dimension " << a.dimension;
   }
   const std::size_t n = nodes.size();

@@ -23,7 +23,7 @@
 #  ifndef TETLIBRARY
 #    define TETLIBRARY
 #  endif
-#  include <tetgen.h>
+#  include <CGAL/Bubble_mesh_3/internal/tetgen_isolated.h>
 #  define CGAL_BUBBLE_MESH_3_PADDING_USES_TETGEN 1
 #endif
 
@@ -157,7 +157,7 @@ inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padd
                                   (c & 4) ? result.box_max[2] : result.box_min[2]});
   result.mesh.point_refs.resize(result.mesh.points.size(), 0);
 
-  tetgenio in, out;
+  tetgenio in;
   in.firstnumber = 0;
   in.numberofpoints = nb + 8;
   in.pointlist = new REAL[3 * in.numberofpoints];
@@ -221,46 +221,44 @@ inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padd
   //    PLC, so detect self-intersections first: -d outputs the faces that
   //    intersect, and no tets
   {
-    tetgenio intersecting;
-    char detect[] = "pdMzQ";
-    try {
-      tetrahedralize(detect, &in, &intersecting);
-    } catch (...) {
-      throw Invalid_input("exterior padding: TetGen failed to check the domain boundary");
-    }
-    if (intersecting.numberoftrifaces > 0)
+    Tetgen_output intersecting;
+    std::string error;
+    if (!tetrahedralize_isolated("pdMzQ", in, intersecting, error))
+      throw Invalid_input("exterior padding: TetGen failed to check the domain boundary (" + error + ")");
+    if (intersecting.intersecting_faces > 0)
       throw Invalid_input("exterior padding: the domain boundary self-intersects (" +
-                          std::to_string(intersecting.numberoftrifaces) + " intersecting faces)");
+                          std::to_string(intersecting.intersecting_faces) + " intersecting faces)");
   }
 
   // 5. tetrahedralize: p = PLC, Y = no Steiner point on the facets,
   //    M = do not merge coplanar facets or close vertices (the domain's
-  //    triangles must come back as they are), z = 0-based, Q = quiet
-  char switches[] = "pYMzQ";
-  try {
-    tetrahedralize(switches, &in, &out);
-  } catch (...) {
-    throw Invalid_input("exterior padding: TetGen failed on the domain boundary (self-intersecting surface?)");
+  //    triangles must come back as they are), z = 0-based, Q = quiet; in a
+  //    child process (tetgen_isolated.h)
+  Tetgen_output out;
+  {
+    std::string error;
+    if (!tetrahedralize_isolated("pYMzQ", in, out, error))
+      throw Invalid_input("exterior padding: TetGen failed on the domain boundary (" + error + ")");
   }
-  if (out.numberofcorners != 4) throw Invalid_input("exterior padding: unexpected TetGen output");
+  const int number_of_points = static_cast<int>(out.points.size() / 3);
 
   // 6. map back: input points keep their ids, Steiner points are appended
   //    when used; orientation is made positive (exact test)
-  std::vector<int> padded_of(out.numberofpoints, -1);
+  std::vector<int> padded_of(static_cast<std::size_t>(number_of_points), -1);
   for (int i = 0; i < nb; ++i) padded_of[i] = domain_of[i];
   for (int c = 0; c < 8; ++c) padded_of[nb + c] = first_box_id + c;
   std::vector<Point> pts;
   pts.reserve(result.mesh.points.size());
   for (const auto& p : result.mesh.points) pts.emplace_back(p[0], p[1], p[2]);
-  for (int t = 0; t < out.numberoftetrahedra; ++t) {
+  for (std::size_t t = 0; 4 * t + 3 < out.tets.size(); ++t) {
     std::array<int, 4> tet;
     for (int k = 0; k < 4; ++k) {
-      const int o = out.tetrahedronlist[4 * t + k];
-      if (o < 0 || o >= out.numberofpoints) throw Invalid_input("exterior padding: bad TetGen vertex id");
+      const int o = out.tets[4 * t + static_cast<std::size_t>(k)];
+      if (o < 0 || o >= number_of_points) throw Invalid_input("exterior padding: bad TetGen vertex id");
       if (padded_of[o] < 0) {
         padded_of[o] = static_cast<int>(result.mesh.points.size());
-        result.mesh.points.push_back({out.pointlist[3 * o], out.pointlist[3 * o + 1], out.pointlist[3 * o + 2]});
-        pts.emplace_back(out.pointlist[3 * o], out.pointlist[3 * o + 1], out.pointlist[3 * o + 2]);
+        result.mesh.points.push_back({out.points[3 * o], out.points[3 * o + 1], out.points[3 * o + 2]});
+        pts.emplace_back(out.points[3 * o], out.points[3 * o + 1], out.points[3 * o + 2]);
         ++result.number_of_steiner_points;
       }
       tet[k] = padded_of[o];

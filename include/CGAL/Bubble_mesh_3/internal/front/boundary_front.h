@@ -28,7 +28,13 @@
 //     are inserted in Morton order, located by a walk (linear scan as the
 //     fallback) and followed by Lawson metric Delaunay flips that stay inside
 //     that input face (so each input face stays tiled by its own triangles);
-//  3. metric Delaunay flips (below) clean the thin triangles of step 2;
+//  3. the curves get the nodes their topology needs: a stretch of curve
+//     from a node back to itself gets two nodes (at a third and two thirds
+//     of its metric length), and of several stretches joining the same two
+//     nodes all but the shortest get one (at the middle): else two of them
+//     would collapse onto one edge. The nodes are new points splitting the
+//     input feature edges (counted as added nodes). Then metric Delaunay
+//     flips (below) clean the thin triangles of step 2;
 //  4. every input vertex that is not a node is removed: by the edge collapse
 //     into a neighbour that gives the best new triangles, subject to the link
 //     condition (stays manifold), to "a curve vertex moves only along its own
@@ -39,8 +45,9 @@
 //     re-triangulated in a local projection (ear clipping, per side of the
 //     curve for a curve vertex); when that fails too, edges around the vertex
 //     are flipped and the vertex is retried later; a vertex that still cannot
-//     be removed is kept as an added node (the surface needs it there: a tip,
-//     a closed curve with too few nodes);
+//     be removed is collapsed into a node closer than half a metric unit
+//     with a looser tilt bound, or else the surface needs a node there (a
+//     tip, a thin part): it is kept as an added node;
 //  5. metric Delaunay flips: an edge ab with opposite vertices c, d (same
 //     patch, not a feature edge, cd not an edge yet) is flipped when the
 //     angles at c and d, measured after mapping by Q of the metric at the
@@ -60,7 +67,8 @@
 //     closed surface always gives a front; Meshing_failure is raised only if
 //     even that last round fails its checks.
 // Node positions never change: collapses always remove a non-node vertex.
-// Added nodes (kept input vertices) follow the given nodes in the numbering.
+// Added nodes (new points on feature curves, kept input vertices) follow
+// the given nodes in the numbering.
 #ifndef CGAL_BUBBLE_MESH_3_INTERNAL_FRONT_BOUNDARY_FRONT_H
 #define CGAL_BUBBLE_MESH_3_INTERNAL_FRONT_BOUNDARY_FRONT_H
 
@@ -84,6 +92,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -150,8 +159,9 @@ struct Boundary_front_options {
 };
 
 struct Boundary_front {
-  /// input vertices the front kept as nodes where the given nodes could not
-  /// represent the surface; node i >= nodes.size() is added_nodes[i - nodes.size()]
+  /// nodes the front added where the given nodes could not represent the
+  /// surface (input vertices it kept, points at the middle of a stretch of
+  /// feature curve); node i >= nodes.size() is added_nodes[i - nodes.size()]
   /// (dimension 1: on a feature curve, 2: inside patch `patch`; 0 only if a
   /// surface corner had no node, which the packer never leaves)
   std::vector<Boundary_node> added_nodes;
@@ -260,6 +270,7 @@ public:
     for(std::size_t v = 0; v < keep_.size() && v < s_.points.size(); ++v)
       if(keep_[v] && vnode_[v] < 0)
         add_node_at(int(v));
+    add_curve_nodes_the_topology_needs();
     flip_passes();
     remove_non_nodes();
     out_.flip_passes = flip_passes();
@@ -785,6 +796,109 @@ private:
                             " (on " + std::to_string(fnbrs_[v].size()) + " feature edges) has no node");
   }
 
+  // ---------------------------------------------------------------- curve topology (step 3)
+  struct Stretch {
+    std::vector<int> path; // node vertex, non-node curve vertices, node vertex
+  };
+
+  // The stretches of feature curve between consecutive nodes. Before any
+  // removal every feature edge is a piece of an input feature edge, so a
+  // stretch follows the input curve exactly.
+  std::vector<Stretch> curve_stretches() const
+  {
+    std::vector<Stretch> out;
+    std::set<std::uint64_t> seen; // first edge of each stretch
+    for(std::size_t u = 0; u < pos_.size(); ++u) {
+      if(vdead_[u] || vnode_[u] < 0)
+        continue;
+      for(int first : fnbrs_[u]) {
+        if(!seen.insert(edge_key(int(u), first)).second)
+          continue;
+        Stretch st;
+        st.path = {int(u)};
+        int prev = int(u), cur = first;
+        while(vnode_[cur] < 0 && fnbrs_[cur].size() == 2) {
+          st.path.push_back(cur);
+          const int next = fnbrs_[cur][0] == prev ? fnbrs_[cur][1] : fnbrs_[cur][0];
+          prev = cur;
+          cur = next;
+        }
+        st.path.push_back(cur);
+        seen.insert(edge_key(prev, cur)); // the same stretch from its other end
+        out.push_back(std::move(st));
+      }
+    }
+    return out;
+  }
+
+  // A node at metric arc-length fraction `f` of the stretch (a new vertex
+  // splitting the edge there, on the input curve, which joins `st.path`).
+  void add_node_along(Stretch& st, double f)
+  {
+    std::vector<double> at{0};
+    for(std::size_t i = 0; i + 1 < st.path.size(); ++i) {
+      const Vec d = pos_[st.path[i + 1]] - pos_[st.path[i]];
+      at.push_back(at.back() + metric_at(0.5 * (pos_[st.path[i]] + pos_[st.path[i + 1]])).length(d));
+    }
+    const double target = f * at.back();
+    std::size_t i = 0;
+    while(i + 2 < st.path.size() && at[i + 1] < target)
+      ++i;
+    const double t = at[i + 1] > at[i] ? std::clamp((target - at[i]) / (at[i + 1] - at[i]), 0.05, 0.95) : 0.5;
+    const int a = st.path[i], b = st.path[i + 1];
+    // an existing vertex of the stretch within a tenth of the stretch of the target: keep it instead
+    for(std::size_t k = 1; k + 1 < st.path.size(); ++k)
+      if(std::abs(at[k] - target) <= 0.1 * at.back() && vnode_[st.path[k]] < 0) {
+        add_node_at(st.path[k]);
+        return;
+      }
+    const int p = new_vertex(pos_[a] + t * (pos_[b] - pos_[a]), -1);
+    split_edge(a, b, p);
+    add_node_at(p);
+    st.path.insert(st.path.begin() + std::ptrdiff_t(i + 1), p);
+  }
+
+  void add_curve_nodes_the_topology_needs()
+  {
+    // a closed curve without any node (the packer leaves none, but a caller may)
+    for(std::size_t u = 0; u < pos_.size(); ++u)
+      if(!vdead_[u] && vnode_[u] < 0 && fnbrs_[u].size() == 2) {
+        int prev = int(u), cur = fnbrs_[u][0];
+        while(cur != int(u) && vnode_[cur] < 0 && fnbrs_[cur].size() == 2) {
+          const int next = fnbrs_[cur][0] == prev ? fnbrs_[cur][1] : fnbrs_[cur][0];
+          prev = cur;
+          cur = next;
+        }
+        if(cur == int(u))
+          add_node_at(int(u));
+      }
+    std::map<std::pair<int, int>, std::vector<Stretch>> by_ends;
+    for(Stretch& st : curve_stretches())
+      by_ends[std::minmax(st.path.front(), st.path.back())].push_back(std::move(st));
+    for(auto& group : by_ends) {
+      auto& list = group.second;
+      if(group.first.first == group.first.second) { // from a node back to itself
+        for(Stretch& st : list) {
+          add_node_along(st, 2.0 / 3);
+          add_node_along(st, 1.0 / 3);
+        }
+        continue;
+      }
+      if(list.size() < 2)
+        continue;
+      auto length = [&](const Stretch& st) {
+        double l = 0;
+        for(std::size_t i = 0; i + 1 < st.path.size(); ++i)
+          l += (pos_[st.path[i + 1]] - pos_[st.path[i]]).norm();
+        return l;
+      };
+      std::sort(list.begin(), list.end(),
+                [&](const Stretch& x, const Stretch& y) { return length(x) < length(y); });
+      for(std::size_t k = 1; k < list.size(); ++k)
+        add_node_along(list[k], 0.5);
+    }
+  }
+
   // ---------------------------------------------------------------- flips
   // Flips edge ab (faces abc, bad) into cd. `delaunay`: only if the metric
   // criterion asks for it.
@@ -893,8 +1007,12 @@ private:
           x = w;
       if(degenerate(pos_[t[0]], pos_[t[1]], pos_[t[2]]))
         return -1;
+      // a needle's own normal is noise (collapsing it away is the point):
+      // only its input face's normal bounds the new triangle then
       const Vec m = normal(t[0], t[1], t[2]).normalized();
-      if(m.dot(unit_normal(f)) < cos_dev || m.dot(ref_normal_[forigin_[f]]) < cos_ref)
+      const auto& old = tri_[f];
+      const bool needle = shape_quality(pos_[old[0]], pos_[old[1]], pos_[old[2]]) < 0.05;
+      if((!needle && m.dot(unit_normal(f)) < cos_dev) || m.dot(ref_normal_[forigin_[f]]) < cos_ref)
         return -1;
       q = std::min(q, shape_quality(pos_[t[0]], pos_[t[1]], pos_[t[2]]));
     }

@@ -35,7 +35,7 @@
 #  ifndef TETLIBRARY
 #    define TETLIBRARY
 #  endif
-#  include <tetgen.h>
+#  include <CGAL/Bubble_mesh_3/internal/tetgen_isolated.h>
 #  define CGAL_BUBBLE_MESH_3_CAVITY_USES_TETGEN 1
 #endif
 
@@ -131,7 +131,7 @@ std::vector<Tet> tetgen_fill(const std::vector<Tri>& faces, const std::vector<in
   for(int i = 0; i < static_cast<int>(ids.size()); ++i)
     local[ids[i]] = i;
 
-  tetgenio in, out;
+  tetgenio in;
   in.firstnumber = 0;
   in.numberofpoints = static_cast<int>(ids.size());
   in.pointlist = new REAL[3 * ids.size()];
@@ -155,34 +155,31 @@ std::vector<Tet> tetgen_fill(const std::vector<Tri>& faces, const std::vector<in
       poly.vertexlist[k] = local[faces[f][k]];
   }
   // p: PLC, Y: no Steiner point on the triangles, M: keep coplanar triangles
-  // apart, z: 0-based, Q: quiet
-  char switches[] = "pYMzQ";
-  try {
-    tetrahedralize(switches, &in, &out);
-  } catch(...) {
-    throw Meshing_failure("advancing front: TetGen could not tetrahedralize the remaining cavities");
-  }
-  if(out.numberofcorners != 4)
-    throw Meshing_failure("advancing front: unexpected TetGen output");
-  std::vector<int> global(out.numberofpoints, -1);
+  // apart, z: 0-based, Q: quiet; in a child process (tetgen_isolated.h)
+  Tetgen_output out;
+  std::string error;
+  if(!tetrahedralize_isolated("pYMzQ", in, out, error))
+    throw Meshing_failure("advancing front: TetGen could not tetrahedralize the remaining cavities (" + error + ")");
+  const int number_of_points = int(out.points.size() / 3);
+  std::vector<int> global(std::size_t(number_of_points), -1);
   for(std::size_t i = 0; i < ids.size(); ++i)
     global[i] = ids[i];
   std::vector<Tet> all;
-  for(int t = 0; t < out.numberoftetrahedra; ++t) {
+  for(std::size_t t = 0; 4 * t + 3 < out.tets.size(); ++t) {
     Tet tet;
     for(int k = 0; k < 4; ++k) {
-      const int o = out.tetrahedronlist[4 * t + k];
-      if(o < 0 || o >= out.numberofpoints)
+      const int o = out.tets[4 * t + std::size_t(k)];
+      if(o < 0 || o >= number_of_points)
         throw Meshing_failure("advancing front: bad TetGen vertex id");
       tet[k] = o;
     }
     all.push_back(tet);
   }
   // positions of TetGen's own points, as they will be appended
-  std::vector<Point_3> tg(out.numberofpoints);
-  for(int i = 0; i < out.numberofpoints; ++i)
+  std::vector<Point_3> tg(static_cast<std::size_t>(number_of_points));
+  for(int i = 0; i < number_of_points; ++i)
     tg[i] = global[i] >= 0 ? pts[global[i]]
-                           : Point_3(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
+                           : Point_3(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
   auto orientation = traits.orientation_3_object();
   for(Tet& t : all) {
     const CGAL::Orientation o = orientation(tg[t[0]], tg[t[1]], tg[t[2]], tg[t[3]]);

@@ -1,0 +1,176 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// TetGen in a child process. TetGen 1.5 (Debian's libtet1.5) is built with
+// its assertions on, and some near-degenerate inputs trip one of them
+// (seen: `recoverfacebyflips` on a cavity of the advancing front): abort()
+// would end the caller's program. On POSIX systems the call runs in a
+// fork()ed child, which sends the output points and tets back through a
+// pipe; a child that dies is reported as an error, not a crash. The parent
+// only reads the pipe and waits, so threads it may run (TBB) do not matter:
+// the child runs TetGen alone, on its copy of the input, and leaves by
+// _exit(). Elsewhere TetGen runs in process.
+#ifndef CGAL_BUBBLE_MESH_3_INTERNAL_TETGEN_ISOLATED_H
+#define CGAL_BUBBLE_MESH_3_INTERNAL_TETGEN_ISOLATED_H
+
+#ifndef TETLIBRARY
+#  define TETLIBRARY
+#endif
+#include <tetgen.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#if defined(__unix__) || defined(__APPLE__)
+#  include <fcntl.h>
+#  include <sys/types.h>
+#  include <sys/wait.h>
+#  include <unistd.h>
+#  define CGAL_BUBBLE_MESH_3_TETGEN_FORK 1
+#endif
+
+namespace CGAL {
+namespace Bubble_mesh_3 {
+namespace internal {
+
+/// What a TetGen run gives back: points (the input ones first), tets (4
+/// corners each) and, for `-d`, the number of intersecting faces.
+struct Tetgen_output {
+  std::vector<double> points;
+  std::vector<int> tets;
+  int intersecting_faces = 0;
+};
+
+namespace tetgen_detail {
+
+inline bool write_all(int fd, const void* data, std::size_t n)
+{
+  const char* p = static_cast<const char*>(data);
+  while(n > 0) {
+    const ssize_t w = ::write(fd, p, n);
+    if(w < 0 && errno == EINTR)
+      continue;
+    if(w <= 0)
+      return false;
+    p += w;
+    n -= std::size_t(w);
+  }
+  return true;
+}
+
+inline bool read_all(int fd, void* data, std::size_t n)
+{
+  char* p = static_cast<char*>(data);
+  while(n > 0) {
+    const ssize_t r = ::read(fd, p, n);
+    if(r < 0 && errno == EINTR)
+      continue;
+    if(r <= 0)
+      return false;
+    p += r;
+    n -= std::size_t(r);
+  }
+  return true;
+}
+
+// runs TetGen; false on its own error (it throws an int)
+inline bool run(const std::string& switches, tetgenio& in, Tetgen_output& result)
+{
+  tetgenio out;
+  std::vector<char> s(switches.begin(), switches.end());
+  s.push_back('\0');
+  try {
+    tetrahedralize(s.data(), &in, &out);
+  } catch(...) {
+    return false;
+  }
+  if(out.numberofcorners != 4 && out.numberoftetrahedra > 0)
+    return false;
+  result.points.assign(out.pointlist, out.pointlist + 3 * std::size_t(std::max(0, out.numberofpoints)));
+  result.tets.assign(out.tetrahedronlist,
+                     out.tetrahedronlist + 4 * std::size_t(std::max(0, out.numberoftetrahedra)));
+  result.intersecting_faces = out.numberoftrifaces;
+  return true;
+}
+
+} // namespace tetgen_detail
+
+/// Runs `tetrahedralize(switches, in)`; returns false (with the reason in
+/// `error`) if TetGen reported an error or died.
+inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, Tetgen_output& result,
+                                    std::string& error)
+{
+#ifdef CGAL_BUBBLE_MESH_3_TETGEN_FORK
+  using namespace tetgen_detail;
+  int fds[2];
+  if(::pipe(fds) != 0) {
+    error = std::string("cannot create a pipe for TetGen: ") + std::strerror(errno);
+    return false;
+  }
+  const pid_t pid = ::fork();
+  if(pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    error = std::string("cannot start TetGen's process: ") + std::strerror(errno);
+    return false;
+  }
+  if(pid == 0) { // the child: TetGen, then the result, then _exit
+    ::close(fds[0]);
+    // TetGen's assertion message would look like the caller's crash: the
+    // parent reports the failure itself
+    const int null = ::open("/dev/null", O_WRONLY);
+    if(null >= 0) {
+      ::dup2(null, 1);
+      ::dup2(null, 2);
+    }
+    Tetgen_output r;
+    const std::uint64_t ok = run(switches, in, r) ? 1 : 0;
+    const std::uint64_t header[4] = {ok, r.points.size(), r.tets.size(), std::uint64_t(r.intersecting_faces)};
+    bool sent = write_all(fds[1], header, sizeof header);
+    sent = sent && write_all(fds[1], r.points.data(), r.points.size() * sizeof(double));
+    sent = sent && write_all(fds[1], r.tets.data(), r.tets.size() * sizeof(int));
+    ::close(fds[1]);
+    ::_exit(sent ? 0 : 1);
+  }
+  ::close(fds[1]);
+  std::uint64_t header[4] = {0, 0, 0, 0};
+  bool received = read_all(fds[0], header, sizeof header);
+  if(received && header[0] == 1) {
+    result.points.resize(std::size_t(header[1]));
+    result.tets.resize(std::size_t(header[2]));
+    result.intersecting_faces = int(header[3]);
+    received = read_all(fds[0], result.points.data(), result.points.size() * sizeof(double)) &&
+               read_all(fds[0], result.tets.data(), result.tets.size() * sizeof(int));
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while(::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if(WIFSIGNALED(status)) {
+    error = "TetGen died (signal " + std::to_string(WTERMSIG(status)) + ", an internal assertion on this input)";
+    return false;
+  }
+  if(!received || header[0] != 1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    error = "TetGen reported an error on this input";
+    return false;
+  }
+  return true;
+#else
+  if(!tetgen_detail::run(switches, in, result)) {
+    error = "TetGen reported an error on this input";
+    return false;
+  }
+  return true;
+#endif
+}
+
+} // namespace internal
+} // namespace Bubble_mesh_3
+} // namespace CGAL
+
+#endif // CGAL_BUBBLE_MESH_3_INTERNAL_TETGEN_ISOLATED_H
