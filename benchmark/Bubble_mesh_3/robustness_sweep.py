@@ -19,6 +19,7 @@ constant metric with sizes h*sqrt3, h/sqrt3, h along axes rotated by 40 deg
 about (1,2,3): ratio 1:3, the same node density as `iso`).
 """
 import argparse
+import concurrent.futures
 import json
 import math
 import os
@@ -66,13 +67,13 @@ def rotated_metric(h, ratio=3.0):
     return ",".join("%.17g" % v for v in (M[0][0], M[0][1], M[0][2], M[1][1], M[1][2], M[2][2]))
 
 
-def run_case(tool, surface, fraction, metric, seed, out_dir, time_limit):
+def run_case(tool, surface, fraction, metric, seed, out_dir, time_limit, threads=0):
     d = read_off_bbox_diagonal(surface)
     h = d / fraction
     name = "%s_d%d_%s_s%d" % (os.path.splitext(os.path.basename(surface))[0], fraction, metric, seed)
     report = os.path.join(out_dir, name + ".json")
     args = [tool, surface, "-o", os.path.join(out_dir, name + ".mesh"), "--report", report, "--seed", str(seed),
-            "--quiet", "--time-limit", str(time_limit)]
+            "--quiet", "--time-limit", str(time_limit), "--threads", str(threads)]
     if metric == "iso":
         args += ["--size", "%.17g" % h]
     else:
@@ -118,6 +119,7 @@ def main():
     ap.add_argument("--table", default="", help="write the markdown table here (default: stdout)")
     ap.add_argument("--min-worst-iso", type=float, default=0.0)
     ap.add_argument("--min-worst-aniso", type=float, default=0.0)
+    ap.add_argument("--jobs", type=int, default=1, help="runs at once (each with one packing thread when > 1)")
     a = ap.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
     if a.surfaces:
@@ -129,33 +131,40 @@ def main():
     seeds = [int(s) for s in a.seeds.split(",")]
     rows, refused = [], []
     failures = 0
-    for surface in surfaces:
-        first = True
-        for fraction in sizes:
-            for metric in metrics:
-                for seed in seeds:
-                    row = run_case(a.tool, surface, fraction, metric, seed, a.out_dir, a.time_limit)
-                    if first and row["exit"] == 2:
-                        refused.append(row)
-                        break
-                    first = False
-                    rows.append(row)
-                    bad = row["exit"] != 0
-                    floor = a.min_worst_iso if metric == "iso" else a.min_worst_aniso
-                    if not bad and fraction >= 30 and row.get("worst") is not None and row["worst"] < floor:
-                        bad = True
-                        row["below_floor"] = True
-                    failures += bad
-                    sys.stderr.write("%-28s d/%-3d %-6s seed %d: exit %d, %s, %.1f s%s\n" % (
-                        row["surface"], fraction, metric, seed, row["exit"],
-                        "worst %s" % fmt(row.get("worst"), ".1f") if row["exit"] == 0 else row["message"][:120],
-                        row["seconds"], " BELOW FLOOR" if row.get("below_floor") else ""))
-                else:
-                    continue
-                break
+
+    def report(row):
+        nonlocal failures
+        bad = row["exit"] != 0
+        floor = a.min_worst_iso if row["metric"] == "iso" else a.min_worst_aniso
+        if not bad and row["fraction"] >= 30 and row.get("worst") is not None and row["worst"] < floor:
+            bad = True
+            row["below_floor"] = True
+        failures += bad
+        sys.stderr.write("%-28s d/%-3d %-6s seed %d: exit %d, %s, %.1f s%s\n" % (
+            row["surface"], row["fraction"], row["metric"], row["seed"], row["exit"],
+            "worst %s" % fmt(row.get("worst"), ".1f") if row["exit"] == 0 else row["message"][:120],
+            row["seconds"], " BELOW FLOOR" if row.get("below_floor") else ""))
+
+    # the first run of each surface tells whether the input is accepted
+    threads = 1 if a.jobs > 1 else 0
+    first_config = (sizes[0], metrics[0], seeds[0])
+    accepted = []
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        firsts = list(pool.map(lambda s: run_case(a.tool, s, *first_config, a.out_dir, a.time_limit, threads),
+                               surfaces))
+        for surface, row in zip(surfaces, firsts):
+            if row["exit"] == 2:
+                refused.append(row)
             else:
-                continue
-            break
+                accepted.append(surface)
+                rows.append(row)
+                report(row)
+        rest = [(s, f, m, k) for s in accepted for f in sizes for m in metrics for k in seeds
+                if (f, m, k) != first_config]
+        for row in pool.map(lambda c: run_case(a.tool, *c, a.out_dir, a.time_limit, threads), rest):
+            rows.append(row)
+            report(row)
+    rows.sort(key=lambda r: (r["surface"], r["fraction"], metrics.index(r["metric"]), r["seed"]))
     lines = ["| surface | size | metric | seed | exit | vertices | added nodes | worst (deg) | p01 (deg) | "
              "volume error | distance / diag | seconds |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:

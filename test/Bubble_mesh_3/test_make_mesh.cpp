@@ -26,6 +26,8 @@
 #include <cmath>
 #include <array>
 #include <set>
+#include <tuple>
+#include <iterator>
 #include <utility>
 #include <vector>
 #include <sstream>
@@ -200,8 +202,9 @@ Outcome mesh_indexed(const std::string& off, const Field& field, double volume, 
     BM::print_validity_summary(std::cerr, o.validity);
   // exactly the packed nodes plus the reported Steiner points, all used
   const auto& r = o.report;
-  EXPECT_EQ(o.mesh.points.size(), r.nodes[0] + r.nodes[1] + r.nodes[2] + r.nodes[3] + r.front.steiner_points -
-                                      r.dropped_outside - r.dropped_near_boundary);
+  EXPECT_EQ(o.mesh.points.size(), r.nodes[0] + r.nodes[1] + r.nodes[2] + r.nodes[3] + r.added_boundary_nodes +
+                                      r.front.steiner_points - r.dropped_outside - r.dropped_near_boundary -
+                                      r.dropped_patch_nodes);
   EXPECT_EQ(o.validity.unused_vertices, 0u);
   return o;
 }
@@ -290,6 +293,62 @@ TEST(MakeMesh, TorusStretched1to5)
   const auto q = BM::compute_quality_report(o.mesh, field);
   print("torus 1:5", o, q);
   EXPECT_GT(q.edge_length.in_range_fraction, 0.8);
+}
+
+// Sizes coarser than the part's features (up to 3 times the part) and thin
+// tips: the packed nodes cannot represent the surface, the boundary front
+// adds nodes (short closed curves, tips) and the result is a valid mesh whose
+// feature edges all lie on curves of the domain.
+TEST(MakeMesh, CoarseSizesAndTipsGiveValidMeshes)
+{
+  // a spindle: two thin tips on the axis, a sharp ring at the waist
+  const std::string spindle = revolution_off({{0, 0}, {0.05, 0.2}, {0.2, 0.8}, {0.6, 1.5}, {0.2, 2.2}, {0.05, 2.8}, {0, 3}}, 48);
+  struct Case {
+    const char* name;
+    std::string off;
+    double size;
+  };
+  const std::vector<Case> cases = {{"cylinder 1.2", cylinder_off(), 1.2}, {"cylinder 2.5", cylinder_off(), 2.5},
+                                   {"cylinder 10", cylinder_off(), 10},   {"spindle 0.6", spindle, 0.6},
+                                   {"spindle 1.5", spindle, 1.5},         {"torus 0.9", torus_off(), 0.9}};
+  std::size_t added = 0;
+  for(const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    CGAL::Constant_metric_field_3<K> field(Metric::isotropic(c.size));
+    const Outcome o = mesh_indexed(c.off, field, -1);
+    EXPECT_TRUE(o.validity.is_valid());
+    added += o.report.added_boundary_nodes;
+    // every feature edge on a curve of the domain
+    Polyhedron p = from_off(c.off);
+    Domain domain(p);
+    domain.detect_features(60);
+    std::vector<std::tuple<Domain::Curve_index, std::pair<K::Point_3, Domain::Index>, std::pair<K::Point_3, Domain::Index>>>
+        curves;
+    domain.get_curves(std::back_inserter(curves));
+    std::set<int> ids;
+    for(const auto& cv : curves)
+      ids.insert(int(std::get<0>(cv)));
+    for(int ref : o.mesh.edge_refs)
+      EXPECT_EQ(ids.count(ref), 1u) << "a feature edge on curve " << ref << ", which the domain does not have";
+    const auto q = BM::compute_quality_report(o.mesh, field);
+    print(c.name, o, q);
+    std::cout << "  added boundary nodes " << o.report.added_boundary_nodes << ", volume error "
+              << o.report.volume_error << ", surface distance " << o.report.surface_distance << "\n";
+    EXPECT_GT(q.min_dihedral.worst, 0.0);
+  }
+  EXPECT_GT(added, 0u) << "no case needed added nodes: the test does not exercise them";
+
+  // the same through the C3T3 (padding, curve ids of the added curve nodes)
+  Polyhedron p = from_off(cylinder_off());
+  Domain domain(p);
+  domain.detect_features(60);
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(2.5));
+  BM::Meshing_report rep;
+  C3t3 c3t3 = CGAL::make_anisotropic_mesh_3<C3t3>(domain, field, BM::parameters::meshing_report(&rep));
+  EXPECT_TRUE(c3t3.triangulation().is_valid());
+  EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.final_tets);
+  EXPECT_EQ(c3t3.number_of_facets_in_complex(), rep.boundary_triangles);
+  EXPECT_GT(c3t3.number_of_edges_in_complex(), 0u);
 }
 
 TEST(MakeMesh, C3t3ForCgalTools)
