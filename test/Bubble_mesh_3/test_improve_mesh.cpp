@@ -836,6 +836,16 @@ std::vector<V3> sphere_and_interior_points()
   return points;
 }
 
+// the mesh is valid and its listed triangles face out
+void expect_valid_with_outward_triangles(const BM::Indexed_tet_mesh_3& mesh)
+{
+  BM::Validity_options vo;
+  vo.require_outward_triangles = true;
+  const BM::Validity_report valid = BM::check_validity(mesh, vo);
+  EXPECT_TRUE(valid.is_valid()) << (valid.problems.empty() ? "" : valid.problems[0]);
+  EXPECT_EQ(valid.misoriented_boundary_triangles, 0u);
+}
+
 TEST(ImproveMesh, CurvedBoundaryVerticesDoNotMove)
 {
   // points on a sphere: no boundary vertex has coplanar faces, none may move
@@ -873,11 +883,7 @@ TEST(ImproveMesh, CurvedBoundaryVerticesSlideOnTheSurfaceWithAProjection)
     return true;
   };
   const BM::Improvement_report r = BM::improve_mesh(mesh, field, o);
-  BM::Validity_options vo;
-  vo.require_outward_triangles = true;
-  const BM::Validity_report valid = BM::check_validity(mesh, vo);
-  EXPECT_TRUE(valid.is_valid()) << (valid.problems.empty() ? "" : valid.problems[0]);
-  EXPECT_EQ(valid.misoriented_boundary_triangles, 0u);
+  expect_valid_with_outward_triangles(mesh);
   EXPECT_EQ(mesh.triangles, input.triangles);
   EXPECT_EQ(mesh.triangle_refs, input.triangle_refs);
   EXPECT_GT(projections, 0u);
@@ -904,6 +910,93 @@ TEST(ImproveMesh, CurvedBoundaryVerticesSlideOnTheSurfaceWithAProjection)
               "%zu boundary moves, %zu sphere vertices moved, volume %.6f -> %.6f\n",
               r.worst_before, r.worst_after, r0.worst_after, r.p01_before, r.p01_after, r.boundary_moves, moved,
               before.total, after.total);
+}
+
+TEST(ImproveMesh, CurvedFeatureVerticesSlideAlongTheCurveWithAProjection)
+{
+  // A sphere cut by an equator feature curve: 40 points on the equator (the
+  // curve, edge ref 7; they are jittered along it so that the spacing is
+  // uneven), 160 on the sphere away from it (the upper and lower patches 1
+  // and 2), 300 inside. With a curve projection onto the circle the equator
+  // vertices slide along it; they stay on the circle, between their curve
+  // neighbours, and the mesh stays valid with the same triangles and edges.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double pi = std::acos(-1.0);
+  std::vector<V3> points;
+  const int n = 40;
+  for(int i = 0; i < n; ++i) {
+    const double a = 2 * pi * (i + 0.35 * u(rng)) / n;
+    points.push_back(V3(std::cos(a), std::sin(a), 0));
+  }
+  while(points.size() < std::size_t(n) + 160) {
+    const V3 x = V3(g(rng), g(rng), g(rng)).normalized();
+    if(std::abs(x[2]) > 0.25)
+      points.push_back(x);
+  }
+  for(int i = 0; i < 300; ++i)
+    points.push_back(0.55 * V3(u(rng), u(rng), u(rng)));
+  BM::Indexed_tet_mesh_3 input = delaunay_mesh(points);
+  // the equator chain must be made of hull edges
+  std::set<std::pair<int, int>> hull_edges;
+  for(const auto& t : input.triangles)
+    for(int k = 0; k < 3; ++k)
+      hull_edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
+  for(int i = 0; i < n; ++i) {
+    ASSERT_EQ(hull_edges.count(std::minmax(i, (i + 1) % n)), 1u) << "test generator: the equator is not a hull chain";
+    input.edges.push_back({{i, (i + 1) % n}});
+    input.edge_refs.push_back(7);
+  }
+  for(std::size_t f = 0; f < input.triangles.size(); ++f) {
+    double z = 0;
+    for(int v : input.triangles[f])
+      z += points[std::size_t(v)][2];
+    input.triangle_refs[f] = z > 0 ? 1 : 2;
+  }
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.2));
+  BM::Indexed_tet_mesh_3 fixed_curve = input;
+  const BM::Improvement_report r0 = BM::improve_mesh(fixed_curve, field, deterministic());
+  for(int v = 0; v < n; ++v)
+    EXPECT_EQ(fixed_curve.points[std::size_t(v)], input.points[std::size_t(v)]) << "moved without a projection";
+
+  BM::Indexed_tet_mesh_3 mesh = input;
+  BM::Improvement_options o = deterministic();
+  std::size_t curve_projections = 0;
+  o.curve_projection = [&](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
+    ++curve_projections;
+    EXPECT_EQ(ref, 7);
+    const double r = std::hypot(p[0], p[1]);
+    q = {{p[0] / r, p[1] / r, 0.0}};
+    return true;
+  };
+  const BM::Improvement_report r = BM::improve_mesh(mesh, field, o);
+  expect_valid_with_outward_triangles(mesh);
+  EXPECT_EQ(mesh.triangles, input.triangles);
+  EXPECT_EQ(mesh.edges, input.edges);
+  EXPECT_GT(curve_projections, 0u);
+  std::size_t moved = 0;
+  for(int v = 0; v < n; ++v) {
+    const auto& p = mesh.points[std::size_t(v)];
+    EXPECT_NEAR(std::hypot(p[0], p[1]), 1.0, 1e-15) << "equator vertex " << v << " left the circle";
+    EXPECT_EQ(p[2], 0.0);
+    moved += p != input.points[std::size_t(v)] ? 1 : 0;
+    // still between its two curve neighbours (angles in order around the circle)
+    auto angle = [&](int w) {
+      const auto& x = mesh.points[std::size_t((w + n) % n)];
+      return std::atan2(x[1], x[0]);
+    };
+    const double before = std::remainder(angle(v) - angle(v - 1), 2 * pi);
+    const double after = std::remainder(angle(v + 1) - angle(v), 2 * pi);
+    EXPECT_GT(before, 0) << "equator vertex " << v << " passed its neighbour";
+    EXPECT_GT(after, 0) << "equator vertex " << v << " passed its neighbour";
+  }
+  for(int v = n; v < n + 160; ++v) // the patch vertices have no surface projection: fixed
+    EXPECT_EQ(mesh.points[std::size_t(v)], input.points[std::size_t(v)]);
+  EXPECT_GT(moved, 0u);
+  EXPECT_GE(r.worst_after, r0.worst_after);
+  std::printf("[sphere with an equator curve] worst %.2f -> %.2f (fixed curve: %.2f), %zu equator vertices moved\n",
+              r.worst_before, r.worst_after, r0.worst_after, moved);
 }
 
 // ---------------------------------------------------------------------------
