@@ -263,6 +263,21 @@ TEST(MakeMesh, LShapeNonConvexGraded)
   print("L graded", o, q);
 }
 
+// the C3T3 of an OFF surface at isotropic size h, checked against the report
+C3t3 mesh_c3t3(const std::string& off, double h, BM::Meshing_report& rep)
+{
+  Polyhedron p = from_off(off);
+  Domain domain(p);
+  domain.detect_features(60);
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(h));
+  C3t3 c3t3 = CGAL::make_anisotropic_mesh_3<C3t3>(domain, field, BM::parameters::meshing_report(&rep));
+  EXPECT_TRUE(c3t3.triangulation().is_valid());
+  EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.final_tets);
+  EXPECT_EQ(c3t3.number_of_facets_in_complex(), rep.boundary_triangles);
+  EXPECT_GT(c3t3.number_of_edges_in_complex(), 0u);
+  return c3t3;
+}
+
 TEST(MakeMesh, CylinderCurvedWithLoopFeatures)
 {
   CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.25));
@@ -339,30 +354,15 @@ TEST(MakeMesh, CoarseSizesAndTipsGiveValidMeshes)
   EXPECT_GT(added, 0u) << "no case needed added nodes: the test does not exercise them";
 
   // the same through the C3T3 (padding, curve ids of the added curve nodes)
-  Polyhedron p = from_off(cylinder_off());
-  Domain domain(p);
-  domain.detect_features(60);
-  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(2.5));
   BM::Meshing_report rep;
-  C3t3 c3t3 = CGAL::make_anisotropic_mesh_3<C3t3>(domain, field, BM::parameters::meshing_report(&rep));
-  EXPECT_TRUE(c3t3.triangulation().is_valid());
-  EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.final_tets);
-  EXPECT_EQ(c3t3.number_of_facets_in_complex(), rep.boundary_triangles);
-  EXPECT_GT(c3t3.number_of_edges_in_complex(), 0u);
+  mesh_c3t3(cylinder_off(), 2.5, rep);
+  EXPECT_GT(rep.added_boundary_nodes + rep.nodes[1], 0u);
 }
 
 TEST(MakeMesh, C3t3ForCgalTools)
 {
-  Polyhedron p = from_off(l_shape_off());
-  Domain domain(p);
-  domain.detect_features(60);
-  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.3));
   BM::Meshing_report rep;
-  C3t3 c3t3 = CGAL::make_anisotropic_mesh_3<C3t3>(domain, field, BM::parameters::meshing_report(&rep));
-  EXPECT_TRUE(c3t3.triangulation().is_valid());
-  EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.final_tets);
-  EXPECT_EQ(c3t3.number_of_facets_in_complex(), rep.boundary_triangles);
-  EXPECT_GT(c3t3.number_of_edges_in_complex(), 0u);
+  const C3t3 c3t3 = mesh_c3t3(l_shape_off(), 0.3, rep);
   EXPECT_EQ(c3t3.number_of_vertices_in_complex(), rep.nodes[0]);
   // the complex's cells: volume of the domain
   double v = 0;
