@@ -112,6 +112,16 @@ const char* const usage_text =
     "                                      RATIO*H at distance R (the paper's 1:1 to 1:3)\n"
     "  --metric-boundary-layer HN,HT,T     (meshing only) tangential size HT, size HN normal\n"
     "                                      to the input surface on it, growing to HT at depth T\n"
+    "  --metric-ugawg CASE[,SCALE]         an analytic metric of the UGAWG benchmark: linear\n"
+    "                                      (unit cube, 1:100 layer at z = 0.5) or polar-1\n"
+    "                                      (cube-cylinder, 1:100 layer on the wall r = 0.5),\n"
+    "                                      every size times SCALE (default 1)\n"
+    "  --surface-distance D|auto|off       (meshing) keep the boundary within D of the input\n"
+    "                                      surface: near it the metric is intersected with sizes\n"
+    "                                      sqrt(3 D / |k|) along the principal curvature\n"
+    "                                      directions (auto: D = bounding box diagonal / 200;\n"
+    "                                      default off; quality is then measured in that\n"
+    "                                      intersected metric)\n"
     "\n"
     "Quality is the minimum dihedral angle of each tet after mapping it by Q,\n"
     "M(centroid) = Q^T Q. Edge lengths are in the metric; the target is 1.\n"
@@ -204,16 +214,24 @@ public:
     Command_line_metric m;
     const int given = int(o.has("--size")) + int(o.has("--metric-const")) +
                       int(o.has("--metric-mesh") || o.has("--metric-sol")) + int(o.has("--metric-cylindrical")) +
-                      int(o.has("--metric-boundary-layer"));
+                      int(o.has("--metric-boundary-layer")) + int(o.has("--metric-ugawg"));
     if(given > 1)
       throw Usage_error("give at most one of --size, --metric-const, --metric-mesh/--metric-sol, "
-                        "--metric-cylindrical, --metric-boundary-layer");
+                        "--metric-cylindrical, --metric-boundary-layer, --metric-ugawg");
     if(o.has("--metric-cylindrical")) {
       const std::vector<double> a = numbers(o, "--metric-cylindrical", 9, "PX,PY,PZ,DX,DY,DZ,H,RATIO,R");
       const CGAL::Bubble_mesh_3::Cylindrical_metric c(Eigen::Vector3d(a[0], a[1], a[2]),
                                                       Eigen::Vector3d(a[3], a[4], a[5]), a[6], a[7], a[8]);
       m.function_.emplace(Function([c](const K::Point_3& p) { return c(p); }));
       m.description_ = "cylindrical " + o.get("--metric-cylindrical");
+    } else if(o.has("--metric-ugawg")) {
+      const std::string value = o.get("--metric-ugawg");
+      const std::size_t comma = value.find(',');
+      const double scale = comma == std::string::npos ? 1.0 : parse_number(value.substr(comma + 1), "--metric-ugawg");
+      const CGAL::Bubble_mesh_3::Ugawg_metric u(
+          CGAL::Bubble_mesh_3::Ugawg_metric::kind_from_name(value.substr(0, comma)), scale);
+      m.function_.emplace(Function([u](const K::Point_3& p) { return u(p); }));
+      m.description_ = "UGAWG " + value;
     } else if(o.has("--metric-boundary-layer")) {
       const std::vector<double> a = numbers(o, "--metric-boundary-layer", 3, "HN,HT,T");
       if(surface == nullptr)
@@ -307,7 +325,7 @@ int run_eval(int argc, char** argv)
 {
   const Options o = parse_options(argc, argv, 2,
                                   {"--size", "--metric-const", "--metric-mesh", "--metric-sol", "--metric-cylindrical",
-                                   "--report", "--vtu", "--histogram", "--title"},
+                                   "--metric-ugawg", "--report", "--vtu", "--histogram", "--title"},
                                   {"--quiet", "--require-valid"});
   if(o.positional.size() != 1)
     throw Usage_error("eval needs exactly one MESH.mesh argument (see bubble_mesh_3 --help)");
@@ -380,7 +398,7 @@ int run_mesh(int argc, char** argv)
   namespace BM = CGAL::Bubble_mesh_3;
   const Options o = parse_options(argc, argv, 1,
                                   {"-o", "--vtu", "--size", "--metric-const", "--metric-mesh", "--metric-sol",
-                                   "--metric-cylindrical", "--metric-boundary-layer", "--section", "--section-plane",
+                                   "--metric-cylindrical", "--metric-boundary-layer", "--metric-ugawg", "--surface-distance", "--section", "--section-plane",
                                    "--feature-angle", "--report", "--histogram", "--seed", "--threads", "--max-nodes",
                                    "--time-limit"},
                                   {"--quiet", "--no-improve"});
@@ -418,6 +436,13 @@ int run_mesh(int argc, char** argv)
       throw Usage_error("--section-plane: '" + t + "' is not of the form x=VALUE, y=VALUE or z=VALUE");
     section_plane = BIO::Section_plane{t[0] - 'x', parse_number(t.substr(2), "--section-plane")};
   }
+  double surface_distance = 0; // off; "auto": a fraction of the diagonal
+  if(o.has("--surface-distance")) {
+    const std::string v = o.get("--surface-distance");
+    surface_distance = v == "off" ? 0.0 : v == "auto" ? -1.0 : parse_number(v, "--surface-distance");
+    if(v != "off" && v != "auto" && !(surface_distance > 0))
+      throw Usage_error("--surface-distance must be a positive length, 'auto' or 'off'");
+  }
   const auto t0 = std::chrono::steady_clock::now();
   auto progress = [&](const std::string& message) {
     if(quiet)
@@ -452,12 +477,23 @@ int run_mesh(int argc, char** argv)
   if(!metric.note().empty())
     progress(metric.note());
 
+  std::string description = metric.description();
+
   BM::Meshing_report meshing;
   Indexed_tet_mesh_3 mesh;
   BM::Quality_report quality;
   std::vector<double> per_tet;
   try {
-    metric.visit([&](const auto& field) {
+    metric.visit([&](const auto& user_field) {
+      // the field meshed (and measured): the user's, intersected near the
+      // surface with the curvature sizes of the distance bound
+      const auto field = BM::make_surface_approximation_metric_field_3(domain, user_field, surface_distance);
+      if(field.bounded()) {
+        std::ostringstream d;
+        d << metric.description() << " with surface distance " << field.distance();
+        description = d.str();
+        progress("metric near the surface: curvature sizes for a distance bound of " + std::to_string(field.distance()));
+      }
       mesh = BM::make_indexed_anisotropic_mesh_3(
           domain, field,
           BM::parameters::random_seed(seed)
@@ -483,7 +519,7 @@ int run_mesh(int argc, char** argv)
     std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT); nothing written\n";
     return exit_interrupted;
   }
-  quality.metric_description = metric.description();
+  quality.metric_description = description;
   // An interrupt after the meshing stops before the next file; the files
   // already written are complete.
   auto check_interrupt = [&] {
@@ -503,7 +539,7 @@ int run_mesh(int argc, char** argv)
     const BIO::Section_plane plane =
         section_plane ? *section_plane : BIO::Section_plane{1, 0.5 * (bb.ymin() + bb.ymax())};
     BIO::write_cross_section_svg(o.get("--section"), mesh, plane, per_tet,
-                                 file_name(surface_path) + ", " + metric.description());
+                                 file_name(surface_path) + ", " + description);
     progress("wrote " + o.get("--section"));
   }
   check_interrupt();
@@ -513,7 +549,7 @@ int run_mesh(int argc, char** argv)
     BIO::write_text_file(o.get("--report"), json + "\n");
   }
   if(o.has("--histogram"))
-    BM::write_histogram_svg(o.get("--histogram"), quality, file_name(surface_path) + ", " + metric.description());
+    BM::write_histogram_svg(o.get("--histogram"), quality, file_name(surface_path) + ", " + description);
   if(!quiet) {
     BM::print_meshing_summary(std::cout, meshing);
     BM::print_quality_summary(std::cout, quality);

@@ -94,6 +94,10 @@ def run_case(tool, surface, fraction, metric, seed, out_dir, time_limit, threads
                    p01=r.get("min_dihedral", {}).get("p01"), added=m.get("added_boundary_nodes", 0),
                    volume_error=m.get("volume_error"), distance=m.get("surface_distance"),
                    distance_rel=m.get("surface_distance_relative"))
+        # how often the front's fallbacks ran (issue 20: prefer the project's own recovery)
+        row["fallbacks"] = {k: m.get(k, 0) for k in ("best_quality_tets", "undo_rounds", "cavities",
+                                                     "vertex_star_fills", "steiner_star_fills", "tetgen_fills",
+                                                     "cavity_enlargements", "steiner_points")}
     for ext in (".mesh",):
         try:
             os.remove(os.path.join(out_dir, name + ext))
@@ -175,6 +179,23 @@ def main():
             fmt(r.get("vertices"), "d"), fmt(r.get("added"), "d"), fmt(r.get("worst"), ".1f"), fmt(r.get("p01"), ".1f"),
             "-" if ve is None else "%.2f %%" % (100 * ve), fmt(r.get("distance_rel"), ".2e"), r["seconds"]))
     ok = sum(1 for r in rows if r["exit"] == 0)
+    signalled = [r for r in rows if r["exit"] < 0]
+    lines.append("")
+    keys = ("best_quality_tets", "undo_rounds", "cavities", "vertex_star_fills", "steiner_star_fills",
+            "tetgen_fills", "cavity_enlargements", "steiner_points")
+    totals = {k: sum(r.get("fallbacks", {}).get(k, 0) for r in rows) for k in keys}
+    runs_with = {k: sum(1 for r in rows if r.get("fallbacks", {}).get(k, 0) > 0) for k in keys}
+    lines.append("Front fallbacks over the valid runs (total, and runs where each ran): " + ", ".join(
+        "%s %d (%d runs)" % (k.replace("_", " "), totals[k], runs_with[k]) for k in keys) + ".")
+    tetgen_runs = [r for r in rows if r.get("fallbacks", {}).get("tetgen_fills", 0) > 0]
+    if tetgen_runs:
+        lines.append("")
+        lines.append("Runs whose front called TetGen: " + ", ".join(
+            "%s d/%d %s s%d" % (r["surface"], r["fraction"], r["metric"], r["seed"]) for r in tetgen_runs) + ".")
+    lines.append("")
+    lines.append("Runs ended by a signal: %d%s." % (len(signalled), "".join(
+        " %s d/%d %s s%d (signal %d)" % (r["surface"], r["fraction"], r["metric"], r["seed"], -r["exit"])
+        for r in signalled)))
     lines.append("")
     lines.append("%d runs on %d accepted surfaces: %d valid meshes, %d failures (exit != 0 or below the floor)." % (
         len(rows), len(surfaces) - len(refused), ok, failures))

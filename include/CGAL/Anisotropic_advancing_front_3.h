@@ -50,7 +50,7 @@ struct Advancing_front_statistics {
   std::size_t tetgen_fills = 0;       ///< cavities closed by TetGen
   std::size_t steiner_points = 0;
   std::size_t cavity_tets = 0;        ///< tets created by the cavity fillers
-  std::size_t cavity_enlargements = 0; ///< fills retried on a cavity enlarged by undone tets
+  std::size_t cavity_enlargements = 0; ///< failed fills answered by undoing more tets, searching and advancing again
   std::size_t unused_nodes = 0;       ///< nodes no tet uses (outside the boundary)
   double seconds = 0;
 };
@@ -916,6 +916,27 @@ private:
         if(attempt >= param_.maximum_cavity_enlargements)
           throw;
         ++stats_.cavity_enlargements;
+        // the front's own recovery before the fillers again: undo more
+        // layers, search the enlarged cavities, advance; the fillers get
+        // what is left (a TetGen that failed on one cavity may not fail on
+        // the larger one, and the fans may close it)
+        recover(attempt + 1);
+        // best-quality steps are costly (each rescans the waiting
+        // triangles): a bounded number, then the fillers
+        for(std::size_t steps = 0; alive_faces_ > 0; ++steps) {
+          run_queue();
+          if(alive_faces_ == 0 || steps > 2 * remaining.size() + 50 || !best_quality_step())
+            break;
+        }
+        if(alive_faces_ == 0) {
+          filled.clear();
+          cs = F::Cavity_fill_statistics();
+          break;
+        }
+        // what the front could not close goes back to the fillers larger:
+        // TetGen, which may not split a cavity's triangles (-Y), leaves a
+        // triangle out when it cannot recover it without a Steiner point on
+        // it; a larger cavity gives it other triangles
         undo_layers(attempt + 1);
       }
     }

@@ -285,5 +285,54 @@ check "tiny cube: volume 1e-18" near "$(json_value "$ext/tiny.json" volume)" 1e-
 extreme huge cube_1e6.off --size 1.5e5
 check "huge cube: volume 1e18" near "$(json_value "$ext/huge.json" volume)" 1e18 1e-9
 
+# The UGAWG cube-cylinder with the linear metric, sizes x2 (about 1,000
+# nodes): issue 20's case, where TetGen aborted the whole process in the
+# front's cavity filling
+extreme ugawg-linear cube_cylinder.off --metric-ugawg linear,2
+expect ugawg-linear-auto 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/ugawg-auto.mesh" --metric-ugawg linear,2 \
+  --surface-distance auto --report "$ext/ugawg-auto.json" --threads 1 --quiet
+check "ugawg linear, surface distance auto: diagonal / 200" near \
+  "$(json_value "$ext/ugawg-auto.json" surface_distance_bound)" 0.00866025 1e-5
+check "ugawg linear, surface distance auto: boundary within it" awk \
+  -v d="$(json_value "$ext/ugawg-auto.json" surface_distance)" 'BEGIN { exit !(d != "" && d <= 0.00866025) }'
+# Surface distance: the cylinder wall of the cube-cylinder at a coarse size
+# (0.25, twice the wall's radius over 3): the boundary stays within the bound
+# (sampled over the triangles), and 'off' meshes the metric as given
+expect surface-distance-0.005 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/sd.mesh" --size 0.25 \
+  --surface-distance 0.005 --report "$ext/sd.json" --threads 1 --quiet
+check "surface distance 0.005: bound reported" near "$(json_value "$ext/sd.json" surface_distance_bound)" 0.005 1e-12
+check "surface distance 0.005: boundary within it" awk -v d="$(json_value "$ext/sd.json" surface_distance)" \
+  'BEGIN { exit !(d != "" && d <= 0.005) }'
+expect surface-distance-off 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/sdoff.mesh" --size 0.25 \
+  --surface-distance off --report "$ext/sdoff.json" --threads 1 --quiet
+check "surface distance off: no bound" [ "$(json_value "$ext/sdoff.json" surface_distance_bound)" = "0" ]
+check "surface distance off: the wall strays more" awk -v d="$(json_value "$ext/sdoff.json" surface_distance)" \
+  'BEGIN { exit !(d > 0.01) }'
+check "surface distance 0.005: more vertices than off" [ "$(json_value "$ext/sd.json" vertices)" -gt \
+  "$(json_value "$ext/sdoff.json" vertices)" ]
+expect surface-distance-zero 2 "positive length, 'auto' or 'off'" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/x.mesh" \
+  --surface-distance 0
+expect surface-distance-text 2 "not a number" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/x.mesh" \
+  --surface-distance far
+check "no output after surface-distance refusals" [ ! -e "$ext/x.mesh" ]
+
+# Fault injection (tetgen_isolated.h): every TetGen call aborts, crashes,
+# fails or returns a wrong result. The run gives a valid mesh (the front
+# recovers by its own means) or exit 3 with nothing written; never a signal.
+for fault in abort crash error wrong; do
+  rm -f "$ext/fault.mesh" "$ext/fault.json"
+  BUBBLE_MESH_3_INJECT_FAULT=$fault "$tool" "$ext/cube_cylinder.off" -o "$ext/fault.mesh" --metric-ugawg linear,2 \
+    --threads 1 --quiet --report "$ext/fault.json" >"$work/out.txt" 2>"$work/err.txt"
+  code=$?
+  if [ "$code" -eq 0 ]; then
+    expect "fault-$fault-valid" 0 "" -- "$tool" eval "$ext/fault.mesh" --require-valid --quiet --metric-ugawg linear,2
+    check "fault-$fault: TetGen was not used" [ "$(json_value "$ext/fault.json" tetgen_fills)" = "0" ]
+  else
+    check "fault-$fault: exit 3, not $code" [ "$code" -eq 3 ]
+    check "fault-$fault: one line naming TetGen" grep -q "TetGen" "$work/err.txt"
+    check "fault-$fault: nothing written" [ ! -e "$ext/fault.mesh" -a ! -e "$ext/fault.json" ]
+  fi
+done
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

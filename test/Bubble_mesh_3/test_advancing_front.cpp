@@ -14,7 +14,9 @@
 #include <CGAL/Anisotropic_advancing_front_3.h>
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/Quality_report.h>
+#include <CGAL/Bubble_mesh_3/internal/front/cavity_filling.h>
 #include <CGAL/Bubble_mesh_3/internal/front/front_geometry.h>
+#include <CGAL/Bubble_mesh_3/internal/tet_boundary_chain.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Constant_metric_field_3.h>
 
@@ -26,6 +28,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <map>
 #include <random>
@@ -475,6 +478,162 @@ TEST(AdvancingFront, RefusesOpenOrInconsistentBoundary)
   std::vector<Tri> missing = d.boundary;
   missing[0][0] = int(d.points.size());
   EXPECT_THROW(front.run(d.points, missing), BM::Invalid_input);
+}
+
+TEST(TetBoundaryChain, TilingsAndNonTilings)
+{
+  namespace BMI = BM::internal;
+  // the unit cube split into 6 positive tets around the diagonal 0-7 (vertex
+  // k = (k&1, (k>>1)&1, (k>>2)&1)) and its 12 outward boundary triangles
+  const std::vector<std::array<int, 4>> cube{{{0, 1, 3, 7}}, {{0, 3, 2, 7}}, {{0, 2, 6, 7}},
+                                             {{0, 6, 4, 7}}, {{0, 4, 5, 7}}, {{0, 5, 1, 7}}};
+  std::vector<Point> p;
+  for(int k = 0; k < 8; ++k)
+    p.emplace_back(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+  for(const auto& t : cube)
+    ASSERT_EQ(CGAL::orientation(p[t[0]], p[t[1]], p[t[2]], p[t[3]]), CGAL::POSITIVE);
+  std::vector<Tri> chain;
+  ASSERT_TRUE(BMI::boundary_chain(cube, chain));
+  EXPECT_EQ(chain.size(), 12u);
+  for(const Tri& f : chain) { // outward: the cube's centre is on the negative side
+    EXPECT_EQ(CGAL::orientation(p[f[0]], p[f[1]], p[f[2]], Point(0.5, 0.5, 0.5)), CGAL::NEGATIVE);
+  }
+  EXPECT_TRUE(BMI::tets_tile_surface(cube, chain));
+  std::vector<Tri> reversed;
+  for(const Tri& f : chain)
+    reversed.push_back({{f[0], f[2], f[1]}});
+  EXPECT_FALSE(BMI::tets_tile_surface(cube, reversed));
+  // a hole: one tet dropped
+  std::vector<std::array<int, 4>> holed(cube.begin(), cube.end() - 1);
+  EXPECT_FALSE(BMI::tets_tile_surface(holed, chain));
+  // stacked: one tet twice (its faces count twice)
+  std::vector<std::array<int, 4>> stacked = cube;
+  stacked.push_back(cube[2]);
+  EXPECT_FALSE(BMI::boundary_chain(stacked, reversed));
+  EXPECT_FALSE(BMI::tets_tile_surface(stacked, chain));
+  // a stray tet whose faces cancel nothing
+  std::vector<std::array<int, 4>> stray = cube;
+  stray.push_back({{8, 9, 10, 11}});
+  EXPECT_FALSE(BMI::tets_tile_surface(stray, chain));
+  // the same cube split differently (5 tets) has the same chain on its
+  // 12 triangles only if the square faces are split the same way: here not
+  const std::vector<std::array<int, 4>> five{{{0, 1, 2, 4}}, {{1, 3, 2, 7}}, {{1, 4, 5, 7}},
+                                             {{2, 6, 4, 7}}, {{1, 2, 4, 7}}};
+  std::vector<Tri> five_chain;
+  ASSERT_TRUE(BMI::boundary_chain(five, five_chain));
+  EXPECT_EQ(five_chain.size(), 12u);
+  EXPECT_FALSE(BMI::tets_tile_surface(five, chain));
+  EXPECT_TRUE(BMI::tets_tile_surface(five, five_chain));
+}
+
+// Sets BUBBLE_MESH_3_INJECT_FAULT (tetgen_isolated.h) for one scope: every
+// TetGen call then fails the way it names.
+class Injected_fault_scope {
+public:
+  explicit Injected_fault_scope(const char* mode) { ::setenv("BUBBLE_MESH_3_INJECT_FAULT", mode, 1); }
+  ~Injected_fault_scope() { ::unsetenv("BUBBLE_MESH_3_INJECT_FAULT"); }
+};
+
+// A U-shaped prism (x, y: the U of width 3 and height 3 with a 1 x 2 notch;
+// z in [0, 1]) as a cavity, its triangles facing in: no vertex sees all of
+// it, its centroids lie in the notch, so only TetGen fills it.
+std::vector<Tri> u_prism_cavity(std::vector<Point>& pts)
+{
+  const double xy[8][2] = {{0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}};
+  pts.clear();
+  for(int z = 0; z < 2; ++z)
+    for(const auto& q : xy)
+      pts.emplace_back(q[0], q[1], z);
+  // the U split into triangles, counterclockwise seen from +z
+  const int u[6][3] = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {0, 4, 5}, {0, 5, 7}, {5, 6, 7}};
+  std::vector<Tri> outward;
+  for(const auto& t : u) {
+    outward.push_back({{t[0], t[2], t[1]}});         // bottom, facing -z
+    outward.push_back({{t[0] + 8, t[1] + 8, t[2] + 8}}); // top, facing +z
+  }
+  for(int k = 0; k < 8; ++k) {
+    const int a = k, b = (k + 1) % 8;
+    outward.push_back({{a, b, b + 8}});
+    outward.push_back({{a, b + 8, a + 8}});
+  }
+  std::vector<Tri> cavity;
+  for(const Tri& f : outward)
+    cavity.push_back({{f[0], f[2], f[1]}});
+  return cavity;
+}
+
+TEST(FaultInjection, CavityFillingRejectsEveryTetGenFailure)
+{
+  namespace F = BM::internal::front;
+  if(!F::cavity_filling_has_tetgen)
+    GTEST_SKIP() << "this build has no TetGen";
+  K traits;
+  std::vector<Point> pts;
+  const std::vector<Tri> cavity = u_prism_cavity(pts);
+  {
+    F::Cavity_fill_statistics stats;
+    std::vector<Point> filled_pts = pts;
+    const std::vector<F::Tet> tets = F::fill_cavities(cavity, {}, filled_pts, true, traits, stats);
+    EXPECT_EQ(stats.tetgen_fills, 1u);
+    EXPECT_EQ(stats.vertex_star_fills + stats.steiner_star_fills, 0u);
+    std::vector<Tri> outward;
+    for(const Tri& f : cavity)
+      outward.push_back({{f[0], f[2], f[1]}});
+    EXPECT_TRUE(BM::internal::tets_tile_surface(tets, outward));
+    double volume = 0;
+    for(const F::Tet& t : tets)
+      volume += CGAL::to_double(CGAL::volume(filled_pts[t[0]], filled_pts[t[1]], filled_pts[t[2]], filled_pts[t[3]]));
+    EXPECT_NEAR(volume, 7.0, 1e-12);
+  }
+  for(const char* mode : {"abort", "crash", "error", "wrong", "unknown-mode"}) {
+    Injected_fault_scope fault(mode);
+    F::Cavity_fill_statistics stats;
+    std::vector<Point> filled_pts = pts;
+    try {
+      F::fill_cavities(cavity, {}, filled_pts, true, traits, stats);
+      ADD_FAILURE() << mode << ": a failed TetGen call gave tets";
+    } catch(const BM::Meshing_failure& e) {
+      const std::string what = e.what();
+      std::cout << "[ measured ] " << mode << ": " << what << "\n";
+      EXPECT_NE(what.find("TetGen"), std::string::npos) << what;
+    }
+  }
+}
+
+TEST(FaultInjection, FrontEndsInAValidMeshOrMeshingFailure)
+{
+  // the lattices whose stuck cavities go to the fillers (as in
+  // CavityFillersAloneGiveValidMeshes), with every TetGen call failing: the
+  // front must recover by its own means (undo more, search, advance, fans)
+  // or throw Meshing_failure; on these lattices it recovers every time
+  if(!BM::internal::front::cavity_filling_has_tetgen)
+    GTEST_SKIP() << "this build has no TetGen";
+  for(const char* mode : {"abort", "crash", "error", "wrong"}) {
+    Injected_fault_scope fault(mode);
+    int valid = 0, failed = 0;
+    std::size_t enlargements = 0;
+    for(int trial = 0; trial < 8; ++trial) {
+      Domain d = box(1, 1, 1, 0.25, 3 + trial, 0.3);
+      Field field(Metric::isotropic(0.25));
+      Front::Parameters prm;
+      prm.maximum_undo_rounds = 0;
+      Front front(field, prm);
+      try {
+        const Front::Result r = front.run(d.points, d.boundary);
+        EXPECT_TRUE(check(r, d).is_valid()) << mode << " trial " << trial;
+        EXPECT_EQ(r.statistics.tetgen_fills, 0u);
+        enlargements += r.statistics.cavity_enlargements;
+        ++valid;
+      } catch(const BM::Meshing_failure& e) {
+        EXPECT_NE(std::string(e.what()).find("TetGen"), std::string::npos) << e.what();
+        ++failed;
+      }
+    }
+    std::cout << "[ measured ] " << mode << ": " << valid << " valid meshes (" << enlargements
+              << " cavity enlargements), " << failed << " Meshing_failure\n";
+    EXPECT_EQ(valid, 8);
+    EXPECT_GT(enlargements, 0u);
+  }
 }
 
 TEST(FrontGeometry, TrianglesSharingVerticesOrNot)

@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <array>
 #include <map>
 #include <set>
@@ -537,6 +538,32 @@ TEST(C3t3, PaddingRefusesBadDomains)
       a.tet_refs.push_back(1);
     }
     EXPECT_THROW(BMI::pad_to_box(a), BM::Invalid_input);
+  }
+}
+
+TEST(FaultInjection, PaddingFailsCleanlyWhenTetGenFails)
+{
+  // every TetGen call failing (tetgen_isolated.h): the padding retries on
+  // larger boxes, then throws Meshing_failure; never a crash, never tets
+  // that do not tile the box
+  if constexpr (!BMI::has_exterior_padding) {
+    GTEST_SKIP() << "exterior padding needs TetGen";
+  } else {
+    const auto l = cube_union({{{0, 0, 0}, 1}, {{1, 0, 0}, 1}, {{0, 1, 0}, 1}});
+    EXPECT_NO_THROW(BMI::pad_to_box(l));
+    for (const char* mode : {"abort", "crash", "error", "wrong"}) {
+      ::setenv("BUBBLE_MESH_3_INJECT_FAULT", mode, 1);
+      try {
+        BMI::pad_to_box(l);
+        ADD_FAILURE() << mode << ": padding succeeded with a failing TetGen";
+      } catch (const BM::Meshing_failure& e) {
+        std::cout << "[ measured ] " << mode << ": " << e.what() << std::endl;
+        EXPECT_NE(std::string(e.what()).find("TetGen"), std::string::npos) << e.what();
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << mode << ": " << e.what();
+      }
+      ::unsetenv("BUBBLE_MESH_3_INJECT_FAULT");
+    }
   }
 }
 

@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <array>
 #include <set>
 #include <tuple>
@@ -397,6 +398,76 @@ TEST(MakeMesh, SameMeshWithOneAndTwoThreads)
   EXPECT_TRUE(a.mesh.points == b.mesh.points);
   EXPECT_TRUE(a.mesh.tets == b.mesh.tets);
   EXPECT_TRUE(a.mesh.triangles == b.mesh.triangles);
+}
+
+TEST(FaultInjection, PipelineEndsInAValidMeshOrMeshingFailure)
+{
+  // every TetGen call failing (tetgen_isolated.h): the non-convex L-shape
+  // needs TetGen's padding for the C3T3, so make_anisotropic_mesh_3 throws
+  // Meshing_failure and leaves the complex empty; the indexed mesh needs no
+  // padding and stays valid (its front recovers without TetGen or fails
+  // with Meshing_failure)
+  if(!BM::internal::has_exterior_padding)
+    GTEST_SKIP() << "this build has no TetGen";
+  Polyhedron p = from_off(l_shape_off());
+  Domain domain(p);
+  domain.detect_features(60);
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.3));
+  for(const char* mode : {"abort", "crash", "error", "wrong"}) {
+    ::setenv("BUBBLE_MESH_3_INJECT_FAULT", mode, 1);
+    C3t3 c3t3;
+    try {
+      CGAL::make_anisotropic_mesh_3(c3t3, domain, field);
+      ADD_FAILURE() << mode << ": a C3T3 without padding";
+    } catch(const BM::Meshing_failure& e) {
+      EXPECT_NE(std::string(e.what()).find("TetGen"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(c3t3.triangulation().number_of_vertices(), 0u);
+    EXPECT_EQ(c3t3.number_of_cells_in_complex(), 0u);
+    try {
+      const Outcome o = mesh_indexed(l_shape_off(), field, 3.0);
+      EXPECT_TRUE(o.validity.is_valid()) << mode;
+      EXPECT_EQ(o.report.front.tetgen_fills, 0u);
+    } catch(const BM::Meshing_failure& e) {
+      EXPECT_NE(std::string(e.what()).find("TetGen"), std::string::npos) << e.what();
+    }
+    ::unsetenv("BUBBLE_MESH_3_INJECT_FAULT");
+  }
+}
+
+TEST(MakeMesh, SurfaceDistanceBoundsTheBoundaryOfACurvedWall)
+{
+  // the cylinder (radius 1) at sizes up to 10 times its radius: with the
+  // bound, the wall gets the nodes its curvature needs (sqrt(3 D / k)
+  // around it) and the boundary stays within D, sampled over its triangles;
+  // without, the chords cut deep into the wall
+  Polyhedron p = from_off(cylinder_off());
+  Domain domain(p);
+  domain.detect_features(60);
+  for(double size : {1.2, 10.0}) {
+    SCOPED_TRACE(size);
+    CGAL::Constant_metric_field_3<K> field(Metric::isotropic(size));
+    BM::Meshing_report bounded, plain;
+    const BM::Indexed_tet_mesh_3 m = BM::make_indexed_anisotropic_mesh_3(
+        domain, field, BM::parameters::surface_distance(0.02).meshing_report(&bounded).number_of_threads(1));
+    BM::make_indexed_anisotropic_mesh_3(domain, field, BM::parameters::meshing_report(&plain).number_of_threads(1));
+    BM::Validity_options opt;
+    opt.require_outward_triangles = true;
+    EXPECT_TRUE(BM::check_validity(m, opt).is_valid());
+    EXPECT_DOUBLE_EQ(bounded.surface_distance_bound, 0.02);
+    EXPECT_EQ(plain.surface_distance_bound, 0.0);
+    EXPECT_LE(bounded.surface_distance, 0.02);
+    EXPECT_GT(plain.surface_distance, 0.1);
+    EXPECT_LT(bounded.volume_error, 0.01);
+    // quality in the metric the mesh was made for
+    const auto effective = BM::make_surface_approximation_metric_field_3(domain, field, 0.02);
+    const auto q = BM::compute_quality_report(m, effective);
+    std::cout << "[ measured ] cylinder size " << size << ", bound 0.02: " << m.points.size() << " vertices, distance "
+              << bounded.surface_distance << " (without: " << plain.surface_distance << "), volume error "
+              << bounded.volume_error << " (without: " << plain.volume_error << "), worst " << q.min_dihedral.worst
+              << " deg\n";
+    EXPECT_GT(q.min_dihedral.worst, 20.0);
+  }
 }
 
 } // namespace

@@ -3,9 +3,12 @@
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Function_metric_field_3.h>
+#include <CGAL/Surface_approximation_metric_field_3.h>
+#include <CGAL/Bubble_mesh_3/internal/surface_curvature.h>
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -240,6 +243,143 @@ TEST(MetricFields, FunctionValidatesEveryValueAndNamesThePoint)
   EXPECT_NO_THROW(field(K::Point_3(-1, -1, 0)));
   expect_invalid_metric([&] { field(K::Point_3(-1, 2.5, 0)); }, "point (-1 2.5 0)");
   expect_invalid_metric([&] { field(K::Point_3(3, -1, 0)); }, "not positive definite");
+}
+
+// A closed surface: the sphere of radius r (a UV grid, `n` bands), one patch.
+struct Test_surface {
+  std::vector<std::array<double, 3>> points;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> patches;
+};
+
+Test_surface uv_sphere(double r, int n)
+{
+  Test_surface s;
+  const double pi = std::acos(-1.0);
+  s.points.push_back({{0, 0, -r}});
+  for(int i = 1; i < n; ++i)
+    for(int j = 0; j < 2 * n; ++j) {
+      const double t = pi * i / n - pi / 2, p = pi * j / n;
+      s.points.push_back({{r * std::cos(t) * std::cos(p), r * std::cos(t) * std::sin(p), r * std::sin(t)}});
+    }
+  s.points.push_back({{0, 0, r}});
+  auto id = [&](int i, int j) { return 1 + (i - 1) * 2 * n + (j % (2 * n)); };
+  const int top = int(s.points.size()) - 1;
+  for(int j = 0; j < 2 * n; ++j) {
+    s.triangles.push_back({{0, id(1, j + 1), id(1, j)}});
+    s.triangles.push_back({{top, id(n - 1, j), id(n - 1, j + 1)}});
+    for(int i = 1; i + 1 < n; ++i) {
+      s.triangles.push_back({{id(i, j), id(i, j + 1), id(i + 1, j + 1)}});
+      s.triangles.push_back({{id(i, j), id(i + 1, j + 1), id(i + 1, j)}});
+    }
+  }
+  s.patches.assign(s.triangles.size(), 0);
+  return s;
+}
+
+// The cylinder of radius r about z, z in [0, 1], `n` segments around and
+// `m` rings: wall patch 0, bottom cap 1, top cap 2 (fans from the centres).
+Test_surface cylinder(double r, int n, int m)
+{
+  Test_surface s;
+  const double pi = std::acos(-1.0);
+  for(int i = 0; i <= m; ++i)
+    for(int j = 0; j < n; ++j)
+      s.points.push_back({{r * std::cos(2 * pi * j / n), r * std::sin(2 * pi * j / n), double(i) / m}});
+  const int bottom = int(s.points.size()), top = bottom + 1;
+  s.points.push_back({{0, 0, 0}});
+  s.points.push_back({{0, 0, 1}});
+  auto id = [&](int i, int j) { return i * n + j % n; };
+  for(int i = 0; i < m; ++i)
+    for(int j = 0; j < n; ++j) {
+      s.triangles.push_back({{id(i, j), id(i, j + 1), id(i + 1, j + 1)}});
+      s.triangles.push_back({{id(i, j), id(i + 1, j + 1), id(i + 1, j)}});
+      s.patches.push_back(0);
+      s.patches.push_back(0);
+    }
+  for(int j = 0; j < n; ++j) {
+    s.triangles.push_back({{bottom, id(0, j + 1), id(0, j)}});
+    s.patches.push_back(1);
+    s.triangles.push_back({{top, id(m, j), id(m, j + 1)}});
+    s.patches.push_back(2);
+  }
+  return s;
+}
+
+TEST(SurfaceCurvature, SphereAndCylinderPatchByPatch)
+{
+  namespace BMI = CGAL::Bubble_mesh_3::internal;
+  const Test_surface sphere = uv_sphere(2.0, 24);
+  const auto ks = BMI::patch_curvatures(sphere.points, sphere.triangles, sphere.patches);
+  for(std::size_t v = 0; v < sphere.points.size(); ++v) {
+    ASSERT_EQ(ks[v].size(), 1u);
+    EXPECT_NEAR(std::abs(ks[v][0].k1), 0.5, 0.03) << "vertex " << v;
+    EXPECT_NEAR(std::abs(ks[v][0].k2), 0.5, 0.03) << "vertex " << v;
+  }
+  const Test_surface cyl = cylinder(0.5, 48, 8);
+  const auto kc = BMI::patch_curvatures(cyl.points, cyl.triangles, cyl.patches);
+  for(std::size_t v = 0; v < cyl.points.size(); ++v) {
+    const bool rim = v < 48 || (v >= 8 * 48 && v < 9 * 48);
+    const bool wall = v < 9 * 48;
+    ASSERT_EQ(kc[v].size(), rim ? 2u : 1u) << "vertex " << v;
+    for(const auto& c : kc[v]) {
+      if(c.patch == 0) { // the wall: 1/r around, 0 along the axis
+        EXPECT_NEAR(std::abs(c.k1), 2.0, 0.1) << "vertex " << v;
+        EXPECT_NEAR(c.k2, 0.0, 0.1) << "vertex " << v;
+        // the curved direction is tangent to the circle
+        const Eigen::Vector3d around(-cyl.points[v][1], cyl.points[v][0], 0);
+        EXPECT_NEAR(around.normalized().dot(c.tensor * around.normalized()), std::abs(c.k1), 0.1);
+        // and as much across the wall (the radial direction)
+        const Eigen::Vector3d radial(cyl.points[v][0], cyl.points[v][1], 0);
+        EXPECT_NEAR(radial.normalized().dot(c.tensor * radial.normalized()), std::abs(c.k1), 0.1);
+      } else { // the flat caps, also at the rim (the sharp edge is not curvature)
+        EXPECT_TRUE(!wall || rim);
+        EXPECT_NEAR(c.k1, 0.0, 1e-9) << "vertex " << v;
+        EXPECT_NEAR(c.k2, 0.0, 1e-9) << "vertex " << v;
+      }
+    }
+  }
+}
+
+TEST(SurfaceApproximationField, CurvatureSizesGradedIntoTheVolume)
+{
+  const Test_surface sphere = uv_sphere(2.0, 32);
+  const CGAL::Constant_metric_field_3<K> user(Metric_3::isotropic(1.0));
+  const double D = 0.01;
+  const CGAL::Surface_approximation_metric_field_3<CGAL::Constant_metric_field_3<K>> field(
+      user, sphere.points, sphere.triangles, sphere.patches, D, 0.5);
+  EXPECT_TRUE(field.bounded());
+  const double h = std::sqrt(3 * D * 2.0); // about 0.245
+  // on the surface: h in both tangent directions and along the normal
+  const K::Point_3 on(2.0 * std::cos(0.3) * std::cos(0.2), 2.0 * std::cos(0.3) * std::sin(0.2), 2.0 * std::sin(0.3));
+  const Vector n(on.x() / 2, on.y() / 2, on.z() / 2);
+  const Vector t = n.cross(Vector(0, 0, 1)).normalized();
+  const Metric_3 m = field(on);
+  EXPECT_NEAR(1 / m.length(t), h, 0.06 * h);
+  EXPECT_NEAR(1 / m.length(n.cross(t)), h, 0.06 * h);
+  EXPECT_NEAR(1 / m.length(n), h, 0.06 * h);
+  // 0.5 inside: sizes grown by 0.5 x 0.5
+  const K::Point_3 in(on.x() * 0.75, on.y() * 0.75, on.z() * 0.75);
+  EXPECT_NEAR(1 / field(in).length(t), h + 0.25, 0.06 * h);
+  // far from the surface the user's metric is unchanged
+  const Metric_3 centre = field(K::Point_3(0, 0, 0));
+  EXPECT_TRUE(centre.matrix().isApprox(Metric_3::isotropic(1.0).matrix()));
+  // a finer user metric is kept
+  const CGAL::Constant_metric_field_3<K> fine(Metric_3::isotropic(0.1));
+  const CGAL::Surface_approximation_metric_field_3<CGAL::Constant_metric_field_3<K>> kept(
+      fine, sphere.points, sphere.triangles, sphere.patches, D);
+  EXPECT_TRUE(kept(on).matrix().isApprox(Metric_3::isotropic(0.1).matrix()));
+  // no bound: the user's field itself
+  const CGAL::Surface_approximation_metric_field_3<CGAL::Constant_metric_field_3<K>> none(
+      user, {}, {}, {}, std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(none.bounded());
+  EXPECT_TRUE(none(on).matrix().isApprox(user(on).matrix()));
+  // bad bounds are refused
+  typedef CGAL::Surface_approximation_metric_field_3<CGAL::Constant_metric_field_3<K>> F;
+  EXPECT_THROW(F(user, sphere.points, sphere.triangles, sphere.patches, 0.0), CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(F(user, sphere.points, sphere.triangles, sphere.patches, -1.0), CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(F(user, sphere.points, sphere.triangles, sphere.patches, 1e-9), CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(F(user, sphere.points, sphere.triangles, {}, D), CGAL::Bubble_mesh_3::Invalid_input);
 }
 
 } // namespace

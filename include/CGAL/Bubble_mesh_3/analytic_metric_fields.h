@@ -3,9 +3,9 @@
 // This file is part of the Bubble_mesh_3 package for CGAL.
 // SPDX-License-Identifier: GPL-3.0-or-later
 //
-// Two metric families used in the paper's examples, as callables to wrap
-// in `Function_metric_field_3`: a cylindrical anisotropy around an axis and
-// a surface-aligned boundary-layer metric.
+// Analytic metric families, as callables to wrap in `Function_metric_field_3`:
+// the paper's cylindrical anisotropy around an axis, a surface-aligned
+// boundary-layer metric, and the analytic metrics of the UGAWG benchmark.
 #ifndef CGAL_BUBBLE_MESH_3_ANALYTIC_METRIC_FIELDS_H
 #define CGAL_BUBBLE_MESH_3_ANALYTIC_METRIC_FIELDS_H
 
@@ -119,6 +119,60 @@ private:
   std::shared_ptr<Mesh> mesh_;
   std::shared_ptr<Tree> tree_;
   double hn_, ht_, t_;
+};
+
+/// \ingroup PkgBubbleMesh3Classes
+/// The analytic metrics of the Unstructured Grid Adaptation Working Group's
+/// first benchmark (Ibanez et al., IMR 2017), with h0 = 0.001:
+/// - `linear` (on the unit cube): h_x = h_y = 0.1, h_z = h0 + 2 (0.1 - h0) |z - 0.5|,
+///   a 1:100 layer at z = 0.5;
+/// - `polar_1` (on the cube-cylinder, the unit cube minus the cylinder of radius
+///   0.5 about the z axis): h_r = h0 + 2 (0.1 - h0) |r - 0.5|, h_theta = h_z = 0.1,
+///   r = sqrt(x^2 + y^2), a 1:100 layer on the curved wall.
+/// Every size is multiplied by `scale` (2 gives about 8 times fewer nodes).
+class Ugawg_metric {
+public:
+  enum Kind { linear, polar_1 };
+
+  explicit Ugawg_metric(Kind kind, double scale = 1) : kind_(kind), scale_(scale)
+  {
+    if(!(scale > 0) || !std::isfinite(scale))
+      throw Invalid_input("UGAWG metric: the scale must be a positive number");
+  }
+
+  /// `"linear"` or `"polar-1"`; throws `Invalid_input` for any other name
+  static Kind kind_from_name(const std::string& name)
+  {
+    if(name == "linear")
+      return linear;
+    if(name == "polar-1")
+      return polar_1;
+    throw Invalid_input("UGAWG metric: unknown case '" + name + "' (known: linear, polar-1)");
+  }
+
+  template <typename Point>
+  Metric_3 operator()(const Point& p) const
+  {
+    const double h0 = 0.001, x = CGAL::to_double(p.x()), y = CGAL::to_double(p.y()), z = CGAL::to_double(p.z());
+    if(kind_ == linear) {
+      const double hz = h0 + 2 * (0.1 - h0) * std::abs(z - 0.5);
+      return Metric_3::from_directions_and_sizes(Eigen::Matrix3d::Identity(),
+                                                 scale_ * Eigen::Vector3d(0.1, 0.1, hz));
+    }
+    const double r = std::sqrt(x * x + y * y);
+    const double hr = h0 + 2 * (0.1 - h0) * std::abs(r - 0.5);
+    if(!(r > 1e-12)) // on the axis (outside the benchmark's domain): no radial direction
+      return Metric_3::isotropic(scale_ * hr);
+    Eigen::Matrix3d dirs;
+    dirs.col(0) = Eigen::Vector3d(x / r, y / r, 0);
+    dirs.col(1) = Eigen::Vector3d(-y / r, x / r, 0);
+    dirs.col(2) = Eigen::Vector3d(0, 0, 1);
+    return Metric_3::from_directions_and_sizes(dirs, scale_ * Eigen::Vector3d(hr, 0.1, 0.1));
+  }
+
+private:
+  Kind kind_;
+  double scale_;
 };
 
 } // namespace Bubble_mesh_3

@@ -24,6 +24,9 @@ namespace Bubble_mesh_3 {
 /// node (83 MB at 24k nodes, 320 MB at 110k, 1.13 GB at 435k), so 5e6 nodes
 /// need about 13 GB, leaving room for the C3T3 of `make_anisotropic_mesh_3()`.
 constexpr double default_maximum_number_of_nodes = 5e6;
+/// the default bound of `surface_distance`, as a fraction of the domain's
+/// bounding box diagonal
+constexpr double default_relative_surface_distance = 1.0 / 200;
 
 namespace internal_np {
 enum number_of_threads_t { number_of_threads };
@@ -34,6 +37,7 @@ enum mesh_improvement_t { mesh_improvement };
 enum improvement_time_limit_t { improvement_time_limit };
 enum time_limit_t { time_limit };
 enum should_stop_t { should_stop };
+enum surface_distance_t { surface_distance };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -59,6 +63,7 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, improvement_time_limit)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, time_limit)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, should_stop)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, surface_distance)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -90,6 +95,7 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, improvement_time_limit)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, time_limit)
 /// a `std::function<bool()>` polled at check points; when it returns true, `Interrupted` is thrown
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, should_stop)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, surface_distance)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, callback)

@@ -14,6 +14,8 @@ writes closed, outward-oriented triangle surfaces (ASCII OFF) into OUT_DIR:
   cube_offset.off   unit cube translated by (1e6, 1e6, 1e6)
   cube_1e-6.off     cube of side 1e-6
   cube_1e6.off      cube of side 1e6
+  cube_cylinder.off the UGAWG cube-cylinder: the unit cube minus the cylinder of
+                    radius 0.5 about the z axis (the arc in 64 segments)
 
 and a background mesh for a size grading of 1:1000 across the unit cube:
 
@@ -44,14 +46,16 @@ def box(x0, y0, z0, x1, y1, z1):
     return v, f
 
 
-def prism(polygon, z0, z1):
-    """Right prism over a convex counter-clockwise polygon (x, y)."""
+def prism(polygon, z0, z1, apex=0):
+    """Right prism over a counter-clockwise polygon (x, y) that is star-shaped
+    from its vertex `apex` (convex: any vertex); top and bottom are fans from it."""
     n = len(polygon)
     v = [(x, y, z0) for x, y in polygon] + [(x, y, z1) for x, y in polygon]
     f = []
-    for i in range(1, n - 1):
-        f.append((0, i + 1, i))          # bottom, facing -z
-        f.append((n, n + i, n + i + 1))  # top, facing +z
+    for k in range(1, n - 1):
+        i, j = (apex + k) % n, (apex + k + 1) % n
+        f.append((apex, j, i))              # bottom, facing -z
+        f.append((n + apex, n + i, n + j))  # top, facing +z
     for i in range(n):
         j = (i + 1) % n
         f.append((i, j, n + j))
@@ -118,6 +122,13 @@ def surfaces():
               box(off, off, off, off + 1, off + 1, off + 1), 1.0))
     s.append(("cube_1e-6.off", "cube of side 1e-6", box(0, 0, 0, 1e-6, 1e-6, 1e-6), 1e-18))
     s.append(("cube_1e6.off", "cube of side 1e6", box(0, 0, 0, 1e6, 1e6, 1e6), 1e18))
+    n = 64  # the quarter circle of radius 0.5, from (0, 0.5) down to (0.5, 0)
+    arc = [(0.5 * math.sin(math.pi / 2 * k / n), 0.5 * math.cos(math.pi / 2 * k / n)) for k in range(n + 1)]
+    arc[0], arc[n] = (0.0, 0.5), (0.5, 0.0)
+    section = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] + arc  # star-shaped from (1, 1)
+    quarter_disk = 0.5 * 0.25 * n * math.sin(math.pi / 2 / n)
+    s.append(("cube_cylinder.off", "UGAWG cube-cylinder: unit cube minus the cylinder r <= 0.5 about z",
+              prism(section, 0, 1, apex=1), 1.0 - quarter_disk))
     return s
 
 

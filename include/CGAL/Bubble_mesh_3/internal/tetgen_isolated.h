@@ -11,7 +11,19 @@
 // pipe; a child that dies is reported as an error, not a crash. The parent
 // only reads the pipe and waits, so threads it may run (TBB) do not matter:
 // the child runs TetGen alone, on its copy of the input, and leaves by
-// _exit(). Elsewhere TetGen runs in process.
+// _exit(). Elsewhere TetGen runs in process, and an assertion inside it ends
+// the program (the documented limit of builds without fork()).
+//
+// Fault injection (a test mode): when the environment variable
+// BUBBLE_MESH_3_INJECT_FAULT is set at the time of a call, the call fails
+// the way it names, so tests can check that every caller ends in a valid
+// mesh or its documented exception:
+//   abort  the child aborts (what TetGen's assertions do)
+//   crash  the child dies of SIGSEGV
+//   error  TetGen's own error return
+//   wrong  TetGen "succeeds" with a corrupted result: its last tet dropped
+//          and a vertex of its first tet replaced by another point
+// Without fork(), abort and crash are injected as errors.
 #ifndef CGAL_BUBBLE_MESH_3_INTERNAL_TETGEN_ISOLATED_H
 #define CGAL_BUBBLE_MESH_3_INTERNAL_TETGEN_ISOLATED_H
 
@@ -21,7 +33,10 @@
 #include <tetgen.h>
 
 #include <cerrno>
+#include <cmath>
+#include <csignal>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -46,7 +61,56 @@ struct Tetgen_output {
   int intersecting_faces = 0;
 };
 
+enum class Injected_fault { none, abort, crash, error, wrong };
+
+/// The fault the environment asks for (`BUBBLE_MESH_3_INJECT_FAULT`, see the
+/// file comment); an unknown value is treated as `error`, so a typo cannot
+/// silently disable a fault test.
+inline Injected_fault injected_fault()
+{
+  const char* v = std::getenv("BUBBLE_MESH_3_INJECT_FAULT");
+  if(v == nullptr || *v == '\0')
+    return Injected_fault::none;
+  const std::string s(v);
+  if(s == "abort")
+    return Injected_fault::abort;
+  if(s == "crash")
+    return Injected_fault::crash;
+  if(s == "wrong")
+    return Injected_fault::wrong;
+  return Injected_fault::error;
+}
+
 namespace tetgen_detail {
+
+// the corruption of `wrong`: a hole (the last tet dropped) and an overlap or
+// a dangling face (a vertex of the first tet moved to another point that
+// leaves it a proper tet, so that only a tiling check can tell)
+inline void corrupt(Tetgen_output& r)
+{
+  if(r.tets.size() >= 4)
+    r.tets.resize(r.tets.size() - 4);
+  const int points = int(r.points.size() / 3);
+  if(r.tets.size() < 4)
+    return;
+  auto p = [&](int v, int k) { return r.points[3 * std::size_t(v) + std::size_t(k)]; };
+  auto volume = [&](int a, int b, int c, int d) {
+    double u[3], v[3], w[3];
+    for(int k = 0; k < 3; ++k) {
+      u[k] = p(b, k) - p(a, k);
+      v[k] = p(c, k) - p(a, k);
+      w[k] = p(d, k) - p(a, k);
+    }
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  };
+  const double own = std::abs(volume(r.tets[0], r.tets[1], r.tets[2], r.tets[3]));
+  for(int w = 0; w < points; ++w)
+    if(w != r.tets[0] && w != r.tets[1] && w != r.tets[2] && w != r.tets[3] &&
+       std::abs(volume(w, r.tets[1], r.tets[2], r.tets[3])) > 1e-3 * own) {
+      r.tets[0] = w;
+      return;
+    }
+}
 
 inline bool write_all(int fd, const void* data, std::size_t n)
 {
@@ -79,8 +143,10 @@ inline bool read_all(int fd, void* data, std::size_t n)
 }
 
 // runs TetGen; false on its own error (it throws an int)
-inline bool run(const std::string& switches, tetgenio& in, Tetgen_output& result)
+inline bool run(const std::string& switches, tetgenio& in, Tetgen_output& result, Injected_fault fault)
 {
+  if(fault == Injected_fault::error)
+    return false;
   tetgenio out;
   std::vector<char> s(switches.begin(), switches.end());
   s.push_back('\0');
@@ -95,6 +161,8 @@ inline bool run(const std::string& switches, tetgenio& in, Tetgen_output& result
   result.tets.assign(out.tetrahedronlist,
                      out.tetrahedronlist + 4 * std::size_t(std::max(0, out.numberoftetrahedra)));
   result.intersecting_faces = out.numberoftrifaces;
+  if(fault == Injected_fault::wrong)
+    corrupt(result);
   return true;
 }
 
@@ -105,6 +173,7 @@ inline bool run(const std::string& switches, tetgenio& in, Tetgen_output& result
 inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, Tetgen_output& result,
                                     std::string& error)
 {
+  const Injected_fault fault = injected_fault();
 #ifdef CGAL_BUBBLE_MESH_3_TETGEN_FORK
   using namespace tetgen_detail;
   int fds[2];
@@ -128,8 +197,12 @@ inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, T
       ::dup2(null, 1);
       ::dup2(null, 2);
     }
+    if(fault == Injected_fault::abort)
+      std::abort();
+    if(fault == Injected_fault::crash)
+      std::raise(SIGSEGV);
     Tetgen_output r;
-    const std::uint64_t ok = run(switches, in, r) ? 1 : 0;
+    const std::uint64_t ok = run(switches, in, r, fault) ? 1 : 0;
     const std::uint64_t header[4] = {ok, r.points.size(), r.tets.size(), std::uint64_t(r.intersecting_faces)};
     bool sent = write_all(fds[1], header, sizeof header);
     sent = sent && write_all(fds[1], r.points.data(), r.points.size() * sizeof(double));
@@ -152,7 +225,9 @@ inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, T
   while(::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   if(WIFSIGNALED(status)) {
-    error = "TetGen died (signal " + std::to_string(WTERMSIG(status)) + ", an internal assertion on this input)";
+    const int sig = WTERMSIG(status);
+    error = "TetGen died (signal " + std::to_string(sig) +
+            (sig == SIGABRT ? ": an internal assertion failed on this input)" : ": it crashed on this input)");
     return false;
   }
   if(!received || header[0] != 1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
@@ -161,7 +236,9 @@ inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, T
   }
   return true;
 #else
-  if(!tetgen_detail::run(switches, in, result)) {
+  if(!tetgen_detail::run(switches, in, result,
+                         fault == Injected_fault::abort || fault == Injected_fault::crash ? Injected_fault::error
+                                                                                          : fault)) {
     error = "TetGen reported an error on this input";
     return false;
   }

@@ -7,6 +7,7 @@
 
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/internal/tet_boundary_chain.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
@@ -42,6 +43,8 @@
 // too. Until the advancing front pads the exterior itself, this needs TetGen
 // (AGPL): without it `pad_to_box()` throws `Invalid_input`. A self-intersecting
 // domain boundary is refused (TetGen's `-d` pass) before tetrahedralizing.
+// TetGen runs in a child process (tetgen_isolated.h) and its tets are checked
+// to tile the box minus the domain before they are used.
 
 namespace CGAL {
 namespace Bubble_mesh_3 {
@@ -98,11 +101,8 @@ inline std::vector<std::array<int, 3>> single_faces(const std::vector<std::array
   return result;
 }
 
-/// Pads `domain` (a valid tet mesh: positive tets, conforming, closed
-/// boundary) out to a box. See `Padded_tet_mesh_3` for the numbering.
-/// Throws `Invalid_input` without TetGen, if TetGen fails, or if its output
-/// does not share the domain's boundary faces exactly.
-inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padding_options& options = {})
+/// One padding with the box margin of `options` (see `pad_to_box()`).
+inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const Padding_options& options)
 {
 #ifndef CGAL_BUBBLE_MESH_3_PADDING_USES_TETGEN
   (void)domain;
@@ -224,7 +224,7 @@ inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padd
     Tetgen_output intersecting;
     std::string error;
     if (!tetrahedralize_isolated("pdMzQ", in, intersecting, error))
-      throw Invalid_input("exterior padding: TetGen failed to check the domain boundary (" + error + ")");
+      throw Meshing_failure("exterior padding: TetGen failed to check the domain boundary (" + error + ")");
     if (intersecting.intersecting_faces > 0)
       throw Invalid_input("exterior padding: the domain boundary self-intersects (" +
                           std::to_string(intersecting.intersecting_faces) + " intersecting faces)");
@@ -238,7 +238,7 @@ inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padd
   {
     std::string error;
     if (!tetrahedralize_isolated("pYMzQ", in, out, error))
-      throw Invalid_input("exterior padding: TetGen failed on the domain boundary (" + error + ")");
+      throw Meshing_failure("exterior padding: TetGen failed on the domain boundary (" + error + ")");
   }
   const int number_of_points = static_cast<int>(out.points.size() / 3);
 
@@ -254,7 +254,7 @@ inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padd
     std::array<int, 4> tet;
     for (int k = 0; k < 4; ++k) {
       const int o = out.tets[4 * t + static_cast<std::size_t>(k)];
-      if (o < 0 || o >= number_of_points) throw Invalid_input("exterior padding: bad TetGen vertex id");
+      if (o < 0 || o >= number_of_points) throw Meshing_failure("exterior padding: bad TetGen vertex id");
       if (padded_of[o] < 0) {
         padded_of[o] = static_cast<int>(result.mesh.points.size());
         result.mesh.points.push_back({out.points[3 * o], out.points[3 * o + 1], out.points[3 * o + 2]});
@@ -266,16 +266,19 @@ inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padd
     switch (CGAL::orientation(pts[tet[0]], pts[tet[1]], pts[tet[2]], pts[tet[3]])) {
     case CGAL::NEGATIVE: std::swap(tet[2], tet[3]); break;
     case CGAL::POSITIVE: break;
-    default: throw Invalid_input("exterior padding: TetGen returned a flat tet");
+    default: throw Meshing_failure("exterior padding: TetGen returned a flat tet");
     }
     result.mesh.tets.push_back(tet);
     result.mesh.tet_refs.push_back(0);
   }
   result.mesh.point_refs.resize(result.mesh.points.size(), 0);
 
-  // 7. the padded mesh must have the box as its only boundary: then the
-  //    exterior tets share every boundary face of the domain
-  result.box_triangles = single_faces(result.mesh.tets);
+  // 7. TetGen's tets are used only if they tile the box exactly (positive,
+  //    checked above, and their boundary chain with the domain's tets is
+  //    made of faces on the box, each once: tet_boundary_chain.h), so that
+  //    a wrong result is caught here, not in CGAL's C3T3 builder
+  if (!boundary_chain(result.mesh.tets, result.box_triangles))
+    throw Meshing_failure("exterior padding: TetGen's exterior tets overlap the domain or each other");
   for (const auto& f : result.box_triangles) {
     bool on_box = false;
     for (int k = 0; k < 3 && !on_box; ++k)
@@ -284,11 +287,29 @@ inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padd
                (pts[f[0]][k] == result.box_max[k] && pts[f[1]][k] == result.box_max[k] &&
                 pts[f[2]][k] == result.box_max[k]);
     if (!on_box)
-      throw Invalid_input("exterior padding: the exterior tets do not match the domain boundary "
-                          "(is the domain boundary closed and free of self-intersections?)");
+      throw Meshing_failure("exterior padding: TetGen's exterior tets do not match the domain boundary");
   }
   return result;
 #endif
+}
+
+/// Pads `domain` (a valid tet mesh: positive tets, conforming, closed
+/// boundary) out to a box. See `Padded_tet_mesh_3` for the numbering.
+/// Throws `Invalid_input` without TetGen, for a bad domain mesh or a domain
+/// boundary that intersects itself, and `Meshing_failure` if TetGen fails,
+/// dies or returns tets that do not tile the box minus the domain, on the
+/// requested box and on two larger ones (another input to TetGen).
+inline Padded_tet_mesh_3 pad_to_box(const Indexed_tet_mesh_3& domain, const Padding_options& options = {})
+{
+  Padding_options o = options;
+  for (int attempt = 0;; ++attempt) {
+    try {
+      return pad_to_box_once(domain, o);
+    } catch (const Meshing_failure&) {
+      if (attempt == 2) throw;
+      o.relative_margin = 2 * std::max(o.relative_margin, 1e-3);
+    }
+  }
 }
 
 } // namespace internal

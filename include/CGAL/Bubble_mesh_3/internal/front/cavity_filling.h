@@ -12,7 +12,11 @@
 //     inner side (a star-shaped cavity, e.g. Schönhardt's twisted prism);
 //  3. TetGen's constrained tetrahedralization of all remaining triangles at
 //     once (`-pY`: no Steiner point on them, Steiner points strictly inside
-//     only), its tets kept by a flood from the inner side of the triangles.
+//     only), its tets kept by a flood from the inner side of the triangles,
+//     and used only if they are positive and their boundary chain is exactly
+//     the remaining triangles (tet_boundary_chain.h): a TetGen that fails,
+//     dies or returns a wrong result is a failure of this step, which the
+//     front answers by enlarging the cavity and filling again.
 // A fan is accepted only if all its tets are positive and no live node lies in
 // one of them (closed), which together make it a tiling of the cavity: the
 // triangles wind once around every inner point. Anything left throws
@@ -35,6 +39,7 @@
 #  ifndef TETLIBRARY
 #    define TETLIBRARY
 #  endif
+#  include <CGAL/Bubble_mesh_3/internal/tet_boundary_chain.h>
 #  include <CGAL/Bubble_mesh_3/internal/tetgen_isolated.h>
 #  define CGAL_BUBBLE_MESH_3_CAVITY_USES_TETGEN 1
 #endif
@@ -250,6 +255,11 @@ std::vector<Tet> tetgen_fill(const std::vector<Tri>& faces, const std::vector<in
     }
     result.push_back(g);
   }
+  std::vector<Tri> expected; // the triangles seen from the tets: reversed
+  for(const Tri& f : faces)
+    expected.push_back(Tri{{f[0], f[2], f[1]}});
+  if(!tets_tile_surface(result, expected))
+    throw Meshing_failure("advancing front: TetGen's tets do not tile the remaining cavities (a wrong result)");
   return result;
 }
 #endif

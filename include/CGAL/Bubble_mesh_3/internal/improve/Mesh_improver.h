@@ -150,10 +150,7 @@ public:
   double unchecked(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                    const Eigen::Vector3d& p3) const
   {
-    const Eigen::Vector3d c = 0.25 * (p0 + p1 + p2 + p3);
-    const auto& m = field_(Field_point(c[0], c[1], c[2]));
-    const Metric_3& metric = m;
-    const Eigen::Matrix3d& q = metric.Q();
+    const Eigen::Matrix3d& q = q_at(0.25 * (p0 + p1 + p2 + p3));
     return fast_minimum_dihedral_angle(map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0),
                                        map_by_upper(q, p3 - p0));
   }
@@ -165,10 +162,7 @@ public:
   {
     if(exact_orientation(p0, p1, p2, p3) == CGAL::COPLANAR)
       return 0;
-    const Eigen::Vector3d c = 0.25 * (p0 + p1 + p2 + p3);
-    const auto& m = field_(Field_point(c[0], c[1], c[2]));
-    const Metric_3& metric = m;
-    const Eigen::Matrix3d& q = metric.Q();
+    const Eigen::Matrix3d& q = q_at(0.25 * (p0 + p1 + p2 + p3));
     return minimum_dihedral_angle_of_edge_vectors(map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0),
                                                   map_by_upper(q, p3 - p0));
   }
@@ -177,10 +171,7 @@ public:
   bool is_sliver(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                  const Eigen::Vector3d& p3) const
   {
-    const Eigen::Vector3d c = 0.25 * (p0 + p1 + p2 + p3);
-    const auto& m = field_(Field_point(c[0], c[1], c[2]));
-    const Metric_3& metric = m;
-    const Eigen::Matrix3d& q = metric.Q();
+    const Eigen::Matrix3d& q = q_at(0.25 * (p0 + p1 + p2 + p3));
     return is_sliver_of_edge_vectors(map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0), map_by_upper(q, p3 - p0));
   }
 
@@ -192,7 +183,14 @@ public:
   }
 
 private:
+  const Eigen::Matrix3d& q_at(const Eigen::Vector3d& c) const
+  {
+    q_ = Metric_3(field_(Field_point(c[0], c[1], c[2]))).Q();
+    return q_;
+  }
+
   const MetricField_3& field_;
+  mutable Eigen::Matrix3d q_;
 };
 
 template <typename MetricField_3>
