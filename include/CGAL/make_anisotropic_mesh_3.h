@@ -890,9 +890,9 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///     along the principal curvature directions (`CGAL::Surface_approximation_metric_field_3`), so curved
 ///     parts get the nodes they need; negative: the bounding box diagonal times
 ///     `Bubble_mesh_3::default_relative_surface_distance` (1/200); 0 or infinity: the metric as given. Off by
-///     default for now: on organic inputs at coarse sizes it multiplies the node count (armadillo at diag/10:
-///     306 to 9,616 vertices, volume error 35 % to 0.9 %) and the field costs about 1 microsecond per
-///     evaluation. A field that is already a `Surface_approximation_metric_field_3` is used as it is}
+///     default for now: on organic inputs at coarse sizes it multiplies the node count (armadillo at diag/10,
+///     measured with a first version of the field: 306 to 9,616 vertices, volume error 35 % to 0.9 %) and the
+///     field costs about 1 microsecond per evaluation (elephant at 0.03: 2.3 s to 20 s). A field that is already a `Surface_approximation_metric_field_3` is used as it is}
 ///     \cgalParamType{double} \cgalParamDefault{0 (off)} \cgalParamNEnd
 ///   \cgalParamNBegin{callback} \cgalParamDescription{progress messages}
 ///     \cgalParamType{std::function<void(const std::string&)>} \cgalParamDefault{none} \cgalParamNEnd
