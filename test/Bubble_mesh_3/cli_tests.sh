@@ -314,6 +314,10 @@ expect surface-distance-zero 2 "positive length, 'auto' or 'off'" -- "$tool" "$e
   --surface-distance 0
 expect surface-distance-text 2 "not a number" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/x.mesh" \
   --surface-distance far
+expect ugawg-unknown-case 2 "unknown case 'bogus'" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/x.mesh" \
+  --metric-ugawg bogus --quiet
+expect ugawg-bad-scale 2 "scale must be a positive number" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/x.mesh" \
+  --metric-ugawg linear,-1 --quiet
 check "no output after surface-distance refusals" [ ! -e "$ext/x.mesh" ]
 
 # Fault injection (tetgen_isolated.h): every TetGen call aborts, crashes,
