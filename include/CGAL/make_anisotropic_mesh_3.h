@@ -197,8 +197,9 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
     const Improvement_report& i = r.improvement;
     o << "improve:  worst " << i.worst_before << " -> " << i.worst_after << " deg, p01 " << i.p01_before << " -> "
       << i.p01_after << " deg, " << i.tets_after << " tets, " << i.seconds << " s (2-3 " << i.flips_2_3 << ", 3-2 "
-      << i.flips_3_2 << ", 4-4 " << i.flips_4_4 << ", edge removals " << i.edge_removals << ", moves "
-      << i.smoothing_moves << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
+      << i.flips_3_2 << ", 4-4 " << i.flips_4_4 << ", edge removals " << i.edge_removals << ", boundary flips "
+      << i.boundary_flips << ", moves " << i.smoothing_moves << " of which " << i.boundary_moves << " on the boundary"
+      << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
   }
   o.precision(3);
   o << "surface:  boundary within " << r.surface_distance;

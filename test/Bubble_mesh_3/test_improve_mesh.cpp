@@ -874,6 +874,7 @@ TEST(ImproveMesh, CurvedBoundaryVerticesSlideOnTheSurfaceWithAProjection)
 
   BM::Indexed_tet_mesh_3 mesh = input;
   BM::Improvement_options o = deterministic();
+  o.curved_boundary_flips = false; // the same triangles (CurvedBoundaryFlipsOnASphere: with them)
   std::size_t projections = 0;
   o.surface_projection = [&](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
     ++projections;
@@ -910,6 +911,118 @@ TEST(ImproveMesh, CurvedBoundaryVerticesSlideOnTheSurfaceWithAProjection)
               "%zu boundary moves, %zu sphere vertices moved, volume %.6f -> %.6f\n",
               r.worst_before, r.worst_after, r0.worst_after, r.p01_before, r.p01_after, r.boundary_moves, moved,
               before.total, after.total);
+}
+
+TEST(ImproveMesh, CurvedBoundaryFlipsOnASphere)
+{
+  // the sphere again, with curved boundary flips: triangles change (in
+  // place, same refs), vertices stay on the sphere, the mesh stays valid
+  // and the worst tet is no worse than with the triangles kept
+  const std::vector<V3> points = sphere_and_interior_points();
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(points);
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.2));
+  auto on_sphere = [](int, const std::array<double, 3>& p, std::array<double, 3>& q) {
+    const V3 x = V3(p[0], p[1], p[2]).normalized();
+    q = {{x[0], x[1], x[2]}};
+    return true;
+  };
+  BM::Improvement_options kept_options = deterministic();
+  kept_options.surface_projection = on_sphere;
+  kept_options.curved_boundary_flips = false;
+  BM::Indexed_tet_mesh_3 kept = input;
+  const BM::Improvement_report r_kept = BM::improve_mesh(kept, field, kept_options);
+
+  BM::Improvement_options o = kept_options;
+  o.curved_boundary_flips = true;
+  BM::Indexed_tet_mesh_3 mesh = input;
+  const BM::Improvement_report r = BM::improve_mesh(mesh, field, o);
+  expect_valid_with_outward_triangles(mesh);
+  EXPECT_GT(r.boundary_flips, 0u);
+  EXPECT_EQ(r_kept.boundary_flips, 0u);
+  EXPECT_EQ(mesh.triangles.size(), input.triangles.size());
+  EXPECT_EQ(mesh.triangle_refs, input.triangle_refs);
+  EXPECT_NE(mesh.triangles, input.triangles);
+  for(std::size_t v = 0; v < 150; ++v) {
+    const V3 x(mesh.points[v][0], mesh.points[v][1], mesh.points[v][2]);
+    EXPECT_NEAR(x.norm(), 1.0, 1e-15) << "boundary vertex " << v << " left the sphere";
+  }
+  // greedy either way: about as good (measured 28.26 vs 28.32 degrees)
+  EXPECT_GT(r.worst_after, 0.9 * r_kept.worst_after);
+  std::printf("[sphere, curved flips] worst %.2f -> %.2f (triangles kept: %.2f), %zu boundary flips\n",
+              r.worst_before, r.worst_after, r_kept.worst_after, r.boundary_flips);
+}
+
+TEST(ImproveMesh, CapOnACurvedSurfaceIsRemoved)
+{
+  // a ridge a-b raised by 0.1 over the square p, q (two tets below it, to
+  // the apex d): the tet (a, b, p, q) is a cap, flat (about 6 degrees) with
+  // two boundary triangles. With a surface projection it is removed: two
+  // tets remain, the top becomes the triangles (a, p, q), (b, q, p), the
+  // volume drops by the cap's. Without one (or without curved flips), the
+  // top triangles stay.
+  const std::vector<std::array<double, 3>> pts{
+      {{-1, 0, 0.1}}, {{1, 0, 0.1}}, {{0, -1, 0}}, {{0, 1, 0}}, {{0, 0, -1}}};
+  BM::Indexed_tet_mesh_3 mesh;
+  mesh.points = pts;
+  mesh.tets = {{{0, 1, 2, 3}}, {{0, 2, 3, 4}}, {{1, 2, 3, 4}}};
+  for(auto& t : mesh.tets)
+    if(BM::signed_volume(pts[std::size_t(t[0])], pts[std::size_t(t[1])], pts[std::size_t(t[2])],
+                         pts[std::size_t(t[3])]) < 0)
+      std::swap(t[0], t[1]);
+  mesh.tet_refs = {1, 1, 1};
+  boundary_from_tets(mesh);
+  mesh.point_refs.assign(pts.size(), 0);
+  // the two top triangles (those with the edge 0-1) are patch 2
+  for(std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    const bool top = std::count(t.begin(), t.end(), 0) + std::count(t.begin(), t.end(), 1) == 2;
+    mesh.triangle_refs[f] = top ? 2 : 1;
+  }
+  const double cap_volume =
+      std::abs(BM::signed_volume(pts[0], pts[1], pts[2], pts[3]));
+  CGAL::Constant_metric_field_3<K> field(identity_metric);
+  const BM::Quality_report q_in = BM::compute_quality_report(mesh, field);
+  ASSERT_LT(q_in.min_dihedral.worst, 10);
+
+  BM::Improvement_options options = deterministic();
+  options.smoothing = false;
+  options.surface_projection = [](int, const std::array<double, 3>& p, std::array<double, 3>& q) {
+    q = p; // the vertices stay: only the flip is under test
+    return true;
+  };
+  BM::Indexed_tet_mesh_3 removed = mesh;
+  const BM::Improvement_report r = BM::improve_mesh(removed, field, options); // the surface changes: no improve_and_check
+  expect_valid_with_outward_triangles(removed);
+  EXPECT_EQ(removed.triangle_refs, mesh.triangle_refs);
+  EXPECT_EQ(removed.points, mesh.points);
+  EXPECT_EQ(r.boundary_flips, 1u);
+  EXPECT_EQ(removed.tets.size(), 2u);
+  EXPECT_GT(r.worst_after, q_in.min_dihedral.worst + 10);
+  EXPECT_NEAR(volumes(removed).total, volumes(mesh).total - cap_volume, 1e-12);
+  for(std::size_t f = 0; f < removed.triangles.size(); ++f)
+    if(removed.triangle_refs[f] == 2) {
+      const auto& t = removed.triangles[f];
+      EXPECT_TRUE(std::count(t.begin(), t.end(), 2) == 1 && std::count(t.begin(), t.end(), 3) == 1)
+          << "a top triangle without the new edge 2-3";
+    }
+
+  for(int variant = 0; variant < 2; ++variant) {
+    BM::Improvement_options off = options;
+    if(variant == 0)
+      off.surface_projection = nullptr;
+    else
+      off.curved_boundary_flips = false;
+    BM::Indexed_tet_mesh_3 same = mesh;
+    const BM::Improvement_report r_off = improve_and_check(same, field, "cap kept", off);
+    EXPECT_EQ(r_off.boundary_flips, 0u);
+    EXPECT_EQ(same.triangles, mesh.triangles);
+  }
+  // a feature edge on the ridge keeps the cap
+  BM::Indexed_tet_mesh_3 ridge = mesh;
+  ridge.edges = {{{0, 1}}};
+  ridge.edge_refs = {1};
+  const BM::Improvement_report r_ridge = improve_and_check(ridge, field, "ridge is a feature", options);
+  EXPECT_EQ(r_ridge.boundary_flips, 0u);
 }
 
 TEST(ImproveMesh, CurvedFeatureVerticesSlideAlongTheCurveWithAProjection)

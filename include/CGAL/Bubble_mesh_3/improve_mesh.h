@@ -57,6 +57,16 @@
 ///   only its triangulation. Each new triangle takes the slot of an old one
 ///   in `triangles` with the same ref and the same orientation. Not done if
 ///   a triangle is listed twice.
+/// - *curved boundary flip* (`curved_boundary_flips`, only with a
+///   `surface_projection`): the same where `abc` and `bad` are not in one
+///   plane, if neither new triangle turns by more than 20 degrees from
+///   either old one (the bound of a surface vertex move). With `k = 1` the
+///   fan is one tet `abcd` with two boundary triangles, a *cap* (flat on a
+///   curved or noisy surface, it has no good shape): it is removed, and its
+///   inner faces `acd`, `bdc` become boundary triangles (if `cd` is no
+///   boundary edge yet and both have a tet of the same subdomain behind
+///   them). The surface moves by the chords' change, at most the height of
+///   the flipped tets; the vertices stay where they are.
 /// - *smoothing*: a vertex moves to raise the smallest quality of its ball
 ///   (mean of the ideal positions over the ball's faces, then
 ///   steepest-ascent steps of the non-smooth max-min problem in the metric
@@ -194,6 +204,13 @@ struct Improvement_options {
   /// flip boundary edges inside planar regions of one patch (2-2, 4-4, ...:
   /// see the file documentation); changes `triangles` but not the surface
   bool boundary_flips = true;
+  /// with `boundary_flips` and a `surface_projection`: also flip boundary
+  /// edges whose two triangles are not in one plane, and remove *caps* (a
+  /// tet with two boundary triangles of one patch, flat on a curved or
+  /// noisy surface), when no new boundary triangle turns by more than 20
+  /// degrees from the old ones: the surface changes by the flipped chords
+  /// (see the file documentation); false keeps every boundary triangle
+  bool curved_boundary_flips = true;
   /// for a vertex of a sliver that smoothing could not move: push it off
   /// the sliver's opposite face, then random trial moves
   bool sliver_moves = true;
@@ -315,6 +332,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   settings.smoothing_iterations = std::max(0, options.smoothing_iterations);
   settings.boundary_smoothing = options.boundary_smoothing;
   settings.boundary_flips = options.boundary_flips;
+  settings.curved_boundary_flips = options.curved_boundary_flips;
   settings.sliver_moves = options.sliver_moves;
   settings.random_seed = options.random_seed;
   settings.should_stop = options.should_stop;

@@ -54,6 +54,9 @@ struct Improver_settings {
   bool boundary_smoothing = true;
   /// flip boundary edges inside planar regions of one patch
   bool boundary_flips = true;
+  /// with a surface projection: also boundary flips off a plane (see
+  /// `surface_change_is_small()`), caps included
+  bool curved_boundary_flips = true;
   /// for the vertices of a sliver that smoothing could not move: the push
   /// off the opposite face, then random trial moves
   bool sliver_moves = true;
@@ -436,13 +439,30 @@ private:
       return; // an interface
     if(m_.face_patch(a, b, p0) != m_.face_patch(a, b, pk))
       return;
-    if(exact_orientation(P(a), P(b), P(p0), P(pk)) != CGAL::COPLANAR)
-      return;
-    if(m_.are_connected(p0, pk))
+    const bool coplanar = exact_orientation(P(a), P(b), P(p0), P(pk)) == CGAL::COPLANAR;
+    if(!coplanar && !(s_.curved_boundary_flips && m_.surface_projection))
+      return; // the caller accepts no change of the surface
+    // n == 2: the one tet (a, b, p0, pk) is a cap on the surface (never flat
+    // when coplanar); removing it makes its two inner faces boundary faces
+    const bool cap = n == 2;
+    int inside_a = -1, inside_b = -1; // the inner apices of the new faces (a, p0, pk), (b, p0, pk)
+    if(cap) {
+      if(m_.is_protected_edge(p0, pk) || m_.is_protected_face(a, p0, pk) || m_.is_protected_face(b, p0, pk))
+        return; // the new boundary would not be a 2-manifold
+      const int ta = m_.opposite_tet(t, a, p0, pk), tb = m_.opposite_tet(t, b, p0, pk);
+      if(ta < 0 || tb < 0 || m_.refs[std::size_t(ta)] != ref || m_.refs[std::size_t(tb)] != ref)
+        return;
+      inside_a = m_.fourth_vertex(ta, a, p0, pk);
+      inside_b = m_.fourth_vertex(tb, b, p0, pk);
+    } else if(m_.are_connected(p0, pk))
       return;
     double result = 0;
     int top = -1;
     if(!best_ring_triangulation(a, b, bar, result, scratch_tets_, top))
+      return;
+    if(!cap)
+      inside_a = inside_b = ring_[std::size_t(top)];
+    if(!coplanar && !surface_change_is_small(a, b, p0, pk, ring_[1], ring_[std::size_t(n - 2)], inside_a, inside_b))
       return;
     // the old faces as stored (listed orientation), the new ones oriented
     // like them with respect to the inside
@@ -451,7 +471,7 @@ private:
       return i < 0 ? std::array<int, 3>{{x, y, z}} : m_.listed[std::size_t(i)];
     };
     const std::array<int, 3> old0 = stored(a, b, p0), old1 = stored(a, b, pk);
-    const int apex_old0 = ring_[1], apex_old1 = ring_[std::size_t(n - 2)], apex_new = ring_[std::size_t(top)];
+    const int apex_old0 = ring_[1], apex_old1 = ring_[std::size_t(n - 2)];
     auto oriented_like = [&](std::array<int, 3> f, int apex_f, const std::array<int, 3>& old, int apex_old) {
       if(exact_orientation(P(f[0]), P(f[1]), P(f[2]), P(apex_f)) !=
          exact_orientation(P(old[0]), P(old[1]), P(old[2]), P(apex_old)))
@@ -467,9 +487,31 @@ private:
     best.new_tets = scratch_tets_;
     best.ref = ref;
     best.old_faces = {{old0, old1}};
-    best.new_faces = {{oriented_like({{a, p0, pk}}, apex_new, old0, apex_old0),
-                       oriented_like({{b, p0, pk}}, apex_new, old1, apex_old1)}};
+    best.new_faces = {{oriented_like({{a, p0, pk}}, inside_a, old0, apex_old0),
+                       oriented_like({{b, p0, pk}}, inside_b, old1, apex_old1)}};
     best.edge_vertices = {{a, b, p0, pk}};
+  }
+
+  /// A boundary flip off a plane changes the surface: as for the moves of
+  /// surface vertices, no new boundary face may turn by more than 20
+  /// degrees from either old one (outward normals: away from each face's
+  /// inner apex). A flat cap, the tet this is mostly for, has nearly
+  /// coplanar faces, so removing it moves the surface by its small height.
+  bool surface_change_is_small(int a, int b, int p0, int pk, int inside_old0, int inside_old1, int inside_a,
+                               int inside_b) const
+  {
+    auto outward = [&](int x, int y, int z, int inside) -> Eigen::Vector3d {
+      const Eigen::Vector3d n = (P(y) - P(x)).cross(P(z) - P(x));
+      return n.dot(P(inside) - P(x)) > 0 ? Eigen::Vector3d(-n) : n;
+    };
+    const Eigen::Vector3d old_normals[2] = {outward(a, b, p0, inside_old0), outward(a, b, pk, inside_old1)};
+    const Eigen::Vector3d new_normals[2] = {outward(a, p0, pk, inside_a), outward(b, p0, pk, inside_b)};
+    const double cos_turn = std::cos(20.0 * std::acos(-1.0) / 180.0);
+    for(const Eigen::Vector3d& o : old_normals)
+      for(const Eigen::Vector3d& n : new_normals)
+        if(!(o.dot(n) > cos_turn * o.norm() * n.norm()))
+          return false;
+    return true;
   }
 
   /// The triangulation of the polygon `ring_` = p_0 .. p_{n-1} that
@@ -1014,7 +1056,7 @@ private:
       consider_edge_removal(t, T[std::size_t(e[0])], T[std::size_t(e[1])], best);
     for(int f = 0; f < 4; ++f)
       consider_face_flip(t, f, best);
-    if(best.new_tets.empty())
+    if(best.old_tets.empty()) // nothing proposed (a cap removal proposes no new tets)
       return false;
     apply(best);
     return true;

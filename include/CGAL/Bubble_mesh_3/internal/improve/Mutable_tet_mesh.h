@@ -521,7 +521,7 @@ public:
         return false;
     }
     const std::size_t n = links.size();
-    if(n < 2)
+    if(n < 1)
       return false;
     // the start: the x that is no link's y
     std::size_t start = n;
