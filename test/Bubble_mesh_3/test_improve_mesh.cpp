@@ -1017,6 +1017,15 @@ TEST(ImproveMesh, CapOnACurvedSurfaceIsRemoved)
     EXPECT_EQ(r_off.boundary_flips, 0u);
     EXPECT_EQ(same.triangles, mesh.triangles);
   }
+  // a ridge raised to 0.4 turns the new top triangles by about 30 degrees
+  // from the old ones (cos = 1 / (1 + h^2)): more than 20, the cap stays
+  BM::Indexed_tet_mesh_3 steep = mesh;
+  steep.points[0][2] = steep.points[1][2] = 0.4;
+  ASSERT_LT(BM::compute_quality_report(steep, field).min_dihedral.worst, options.target_angle);
+  const BM::Improvement_report r_steep = BM::improve_mesh(steep, field, options);
+  expect_valid_with_outward_triangles(steep);
+  EXPECT_EQ(r_steep.boundary_flips, 0u);
+  EXPECT_EQ(steep.triangles, mesh.triangles);
   // a feature edge on the ridge keeps the cap
   BM::Indexed_tet_mesh_3 ridge = mesh;
   ridge.edges = {{{0, 1}}};

@@ -27,7 +27,8 @@
 // The driver of improve_mesh(): passes of (1) a flip phase, a worklist of
 // the tets below the target angle, worst first, each removed by the best
 // strictly improving flip among the removals of its six edges (3-2, 4-4,
-// n-to-(2n-4); boundary flips for boundary edges in a plane) and the 2-3
+// n-to-(2n-4); boundary flips for boundary edges in a plane, and with a
+// surface projection off it, caps included) and the 2-3
 // flips of its four faces; (2) a smoothing sweep over the movable vertices
 // (free, or sliding in a boundary plane or along a feature line) of the
 // remaining bad tets, with pushes and seeded random trial moves for sliver
@@ -492,6 +493,11 @@ private:
     best.edge_vertices = {{a, b, p0, pk}};
   }
 
+  /// the largest turn of a boundary triangle (20 degrees) by a surface
+  /// vertex move or a curved boundary flip: the triangles stay close to the
+  /// surface they approximate
+  static double cos_of_largest_boundary_turn() { return std::cos(20.0 * std::acos(-1.0) / 180.0); }
+
   /// A boundary flip off a plane changes the surface: as for the moves of
   /// surface vertices, no new boundary face may turn by more than 20
   /// degrees from either old one (outward normals: away from each face's
@@ -506,7 +512,7 @@ private:
     };
     const Eigen::Vector3d old_normals[2] = {outward(a, b, p0, inside_old0), outward(a, b, pk, inside_old1)};
     const Eigen::Vector3d new_normals[2] = {outward(a, p0, pk, inside_a), outward(b, p0, pk, inside_b)};
-    const double cos_turn = std::cos(20.0 * std::acos(-1.0) / 180.0);
+    const double cos_turn = cos_of_largest_boundary_turn();
     for(const Eigen::Vector3d& o : old_normals)
       for(const Eigen::Vector3d& n : new_normals)
         if(!(o.dot(n) > cos_turn * o.norm() * n.norm()))
@@ -758,7 +764,7 @@ private:
     // edge at it leaves [1/sqrt 2, sqrt 2] in the metric (edge length: the
     // mean of its lengths in the two end metrics). Without the last rule the
     // elephant's boundary layer lost 1 % of its edges in range.
-    const double cos_turn = std::cos(20.0 * std::acos(-1.0) / 180.0);
+    const double cos_turn = cos_of_largest_boundary_turn();
     std::vector<std::pair<int, Metric_3>> conforming; // neighbours joined by an edge in range
     if(on_surface) {
       std::vector<int> neighbours;

@@ -499,7 +499,7 @@ public:
   /// The open fan of the boundary edge (a, b): fan vertices p_0 .. p_k and
   /// the tets t_i = (a, b, p_i, p_{i+1}) (up to an even permutation), i < k,
   /// every `orientation(a, b, p_i, p_{i+1})` positive; (a, b, p_0) and
-  /// (a, b, p_k) are then faces of one tet each. Returns false if the tets
+  /// (a, b, p_k) are then faces of one tet each (of the same tet if k = 1). Returns false if the tets
   /// around the edge are not one open fan, or more than `max_size`.
   bool edge_fan(int a, int b, std::size_t max_size, std::vector<int>& fan, std::vector<int>& fan_tets) const
   {

@@ -516,8 +516,8 @@ private:
   std::vector<std::array<Sym3, 3>> grad_; // dM/dx_k at moving bubbles
   std::vector<char> flat_;                 // 1: the metric is the same at all listed neighbours (grad_ = 0)
   bool use_gradient_ = uses_metric_gradient(traits_);
-  // 0.5: the armadillo case above swings at 0.7 and 1 too; the UGAWG linear
-  // cube is unchanged up to 0.7 and within 1 degree at 0.5
+  // 0.5: the armadillo case above still swings at 0.7 and 1; the UGAWG
+  // linear cube is unchanged (the cut acts on volume bubbles only)
   static constexpr double maximum_relative_correction = 0.5;
   bool needs_rebuild_ = false;
   std::size_t rebuilds_ = 0;
