@@ -52,6 +52,8 @@ struct Advancing_front_statistics {
   std::size_t cavity_tets = 0;        ///< tets created by the cavity fillers
   std::size_t cavity_enlargements = 0; ///< failed fills answered by undoing more tets, searching and advancing again
   std::size_t unused_nodes = 0;       ///< nodes no tet uses (outside the boundary)
+  std::size_t removability_tests = 0; ///< the front's work (one or two per tet when it closes well)
+  bool work_limit_reached = false;    ///< the front stopped at its work budget; the fillers closed the rest
   double seconds = 0;
 };
 
@@ -114,6 +116,10 @@ public:
   struct Parameters {
     /// candidate search radius around a front triangle, in metric units of its metric
     double search_radius = 1.0;
+    /// the front's work budget: removability tests per node (a closing front
+    /// uses one or two per tet, a stuck one thousands); past it the cavity
+    /// fillers close what is left
+    double removability_tests_per_node = 500;
     /// rounds of undoing the tets next to a stuck front before filling the cavities
     int maximum_undo_rounds = 4;
     /// times a cavity the fillers cannot close is enlarged (by 1, 2, ...
@@ -157,6 +163,7 @@ public:
     const auto t0 = std::chrono::steady_clock::now();
     init(points, boundary);
     advance();
+    stats_.removability_tests = removable_tests_;
     Result r;
     fill_cavities();
     collect(r);
@@ -173,6 +180,11 @@ private:
     Box box; // of its vertices
     bool alive = true;
     bool waiting = false;      // its Delaunay pair was not removable
+    bool listed = false;       // in `waiting_` (once, even if woken and waiting again)
+    // while waiting: the box of every node and front triangle its decisions
+    // looked at (its triangle, the Delaunay search, the fallback search); only
+    // a tet added or removed in it can change them
+    Box region;
     bool fallback_dirty = true;
     double fallback_quality = -1;
     int fallback_node = -1;
@@ -229,6 +241,7 @@ private:
           hi[k] = std::max(hi[k], p[k]);
         }
       faces_grid_.reset(lo, hi, cell_, 2 * xyz_.size() + 8);
+      waiting_grid_.reset(lo, hi, cell_, 2 * xyz_.size() + 8);
     }
     faces_.clear();
     face_of_.clear();
@@ -242,6 +255,7 @@ private:
     queue_.clear();
     waiting_.clear();
     stats_ = Statistics();
+    removable_tests_ = 0;
     alive_faces_ = 0;
     // the front: boundary triangles reversed (the unmeshed side is positive)
     for(const Triangle& t : boundary)
@@ -307,10 +321,8 @@ private:
       Face& g = faces_[it->second];
       CGAL_assertion(!F::same_orientation(g.v, t));
       g.alive = false;
-      if(g.waiting) {
-        g.waiting = false;
-        --waiting_count_;
-      }
+      if(g.waiting)
+        stop_waiting(it->second);
       --alive_faces_;
       for(int v : g.v)
         --front_count_[v];
@@ -366,27 +378,61 @@ private:
     wake_neighbours(t);
   }
 
-  /// waiting triangles near a change get another chance
+  /// Waiting triangles whose decisions looked where `t` is get another
+  /// chance. Their Delaunay node, its removability and their best removable
+  /// pair depend only on the live nodes and front triangles in their region,
+  /// and a tet changes those only inside its own box, so the others keep
+  /// their decisions: on a 1:100 layer a Euclidean neighbourhood of the
+  /// tet's size woke a quarter of the front for every tet.
   void wake_neighbours(const Tetrahedron& t)
   {
     if(waiting_count_ == 0)
       return;
-    Box b = box_of({t[0], t[1], t[2], t[3]});
-    double r = 0;
-    for(int k = 0; k < 3; ++k)
-      r = std::max(r, b.hi[k] - b.lo[k]);
-    b.inflate(param_.search_radius * r);
-    faces_grid_.query(b, [&](int id) {
-      Face& f = faces_[id];
-      if(!f.alive)
-        return;
-      f.fallback_dirty = true;
-      if(f.waiting) {
-        f.waiting = false;
-        --waiting_count_;
-        queue_.push_back(id);
-      }
+    woken_.clear();
+    const Box b = box_of({t[0], t[1], t[2], t[3]});
+    waiting_grid_.query(b, [&](int id) {
+      const Face& f = faces_[id];
+      if(f.alive && f.waiting && f.region.meets(b))
+        woken_.push_back(id);
     });
+    for(int id : woken_) {
+      stop_waiting(id);
+      queue_.push_back(id);
+    }
+  }
+
+  void start_waiting(int id, const Box& region)
+  {
+    Face& f = faces_[id];
+    f.waiting = true;
+    f.fallback_dirty = true;
+    f.region = region;
+    f.region.extend(f.box);
+    waiting_grid_.insert(id, f.region);
+    ++waiting_count_;
+    if(!f.listed) {
+      f.listed = true;
+      waiting_.push_back(id);
+    }
+  }
+
+  void stop_waiting(int id)
+  {
+    Face& f = faces_[id];
+    f.waiting = false;
+    waiting_grid_.remove(id, f.region);
+    --waiting_count_;
+  }
+
+  /// a waiting face's decisions looked into `b` too
+  void extend_region(int id, const Box& b)
+  {
+    Face& f = faces_[id];
+    if(!f.waiting || f.region.contains(b))
+      return;
+    waiting_grid_.remove(id, f.region);
+    f.region.extend(b);
+    waiting_grid_.insert(id, f.region);
   }
 
   // ------------------------------------------------------------- metrics
@@ -521,7 +567,7 @@ private:
   }
 
   /// the node of the modified Delaunay pair of f, or -1
-  int delaunay_node(const Triangle& f)
+  int delaunay_node(const Triangle& f, Box& region)
   {
     const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
     auto side = traits_.side_of_oriented_metric_sphere_SOS_3_object();
@@ -546,13 +592,17 @@ private:
       }
       scanned = box;
       has_scanned = true;
+      region = box;
       if(best < 0) {
         box = search_box(f, m, double(2 << attempt));
         box.extend(scanned);
         continue;
       }
       Box sphere;
-      if(!circumsphere_box(f, best, m, sphere) || box.contains(sphere) || attempt == 5)
+      const bool has_sphere = circumsphere_box(f, best, m, sphere);
+      if(has_sphere)
+        region.extend(sphere);
+      if(!has_sphere || box.contains(sphere) || attempt == 5)
         return best;
       box.extend(sphere);
     }
@@ -562,6 +612,7 @@ private:
   // ---------------------------------------------------------- removability
   bool removable(int fid, int p)
   {
+    ++removable_tests_;
     namespace F = Bubble_mesh_3::internal::front;
     const Triangle f = faces_[fid].v;
     if(traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[p]) != CGAL::POSITIVE)
@@ -653,23 +704,22 @@ private:
   bool run_queue()
   {
     bool progress = false;
-    while(!queue_.empty()) {
+    while(!queue_.empty() && !over_budget()) {
       check_stop();
       const int fid = queue_.front();
       queue_.pop_front();
       Face& f = faces_[fid];
       if(!f.alive || f.waiting)
         continue;
-      const int p = delaunay_node(f.v);
+      Box region;
+      const int p = delaunay_node(f.v, region);
       if(p >= 0 && removable(fid, p)) {
         const Triangle v = f.v;
         add_tet(Tetrahedron{{v[0], v[1], v[2], p}});
         ++stats_.delaunay_tets;
         progress = true;
       } else {
-        faces_[fid].waiting = true;
-        ++waiting_count_;
-        waiting_.push_back(fid);
+        start_waiting(fid, region);
       }
     }
     return progress;
@@ -686,7 +736,9 @@ private:
     const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
     std::vector<std::pair<double, int>> ranked;
     for(int attempt = 0; attempt < 3 && ranked.empty(); ++attempt) {
-      candidates(f, search_box(f, m, double(1 << attempt)), cand_);
+      const Box b = search_box(f, m, double(1 << attempt));
+      extend_region(fid, b);
+      candidates(f, b, cand_);
       for(int q : cand_)
         ranked.emplace_back(tet_quality(f, q), q);
     }
@@ -705,7 +757,13 @@ private:
   bool best_quality_step()
   {
     waiting_.erase(std::remove_if(waiting_.begin(), waiting_.end(),
-                                  [&](int id) { return !faces_[id].alive || !faces_[id].waiting; }),
+                                  [&](int id) {
+                                    Face& f = faces_[id];
+                                    if(f.alive && f.waiting)
+                                      return false;
+                                    f.listed = false;
+                                    return true;
+                                  }),
                    waiting_.end());
     for(int attempt = 0; attempt < 2; ++attempt) {
       int best = -1;
@@ -861,8 +919,10 @@ private:
       if(f.alive) {
         f.fallback_dirty = true;
         f.waiting = false;
+        f.listed = false;
       }
     waiting_count_ = 0;
+    waiting_grid_.clear();
     queue_.clear();
     for(const auto& kv : face_of_)
       queue_.push_back(kv.second);
@@ -870,10 +930,25 @@ private:
     waiting_.clear();
   }
 
+  /// Advances until the front is closed, the recoveries are spent, or the
+  /// work exceeds `Parameters::removability_tests_per_node` tests per node
+  /// (a front that keeps failing, as on a 1:100 layer thinner than its curved
+  /// wall's chords, would otherwise run for hours); the cavity fillers close
+  /// what is left.
+  bool over_budget()
+  {
+    // at least 200 nodes' worth: small fronts may take a few hundred tests per tet
+    if(double(removable_tests_) >= param_.removability_tests_per_node * double(std::max<std::size_t>(xyz_.size(), 200)))
+      stats_.work_limit_reached = true;
+    return stats_.work_limit_reached;
+  }
+
   void advance()
   {
     int rounds = 0;
     while(alive_faces_ > 0) {
+      if(over_budget())
+        break;
       run_queue();
       if(alive_faces_ == 0)
         break;
@@ -923,7 +998,7 @@ private:
         recover(attempt + 1);
         // best-quality steps are costly (each rescans the waiting
         // triangles): a bounded number, then the fillers
-        for(std::size_t steps = 0; alive_faces_ > 0; ++steps) {
+        for(std::size_t steps = 0; alive_faces_ > 0 && !over_budget(); ++steps) {
           run_queue();
           if(alive_faces_ == 0 || steps > 2 * remaining.size() + 50 || !best_quality_step())
             break;
@@ -990,6 +1065,8 @@ private:
   double cell_ = 1;
   Bubble_mesh_3::internal::front::Point_grid nodes_;
   Bubble_mesh_3::internal::front::Box_grid faces_grid_;
+  Bubble_mesh_3::internal::front::Box_grid waiting_grid_; // waiting faces by region
+  std::vector<int> woken_;
   std::vector<Face> faces_;
   std::unordered_map<Triangle, int, Key_hash> face_of_;
   std::vector<Tetrahedron> tets_;
@@ -1004,6 +1081,7 @@ private:
   long alive_faces_ = 0;
   long budget_ = 0;
   std::size_t decisions_ = 0;
+  std::size_t removable_tests_ = 0;
   mutable std::optional<Metric> qi_metric_;
   mutable Eigen::Matrix3d qi_;
   Statistics stats_;

@@ -141,6 +141,8 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"vertex_star_fills\": " << r.front.vertex_star_fills << ",\n    \"steiner_star_fills\": "
     << r.front.steiner_star_fills << ",\n    \"tetgen_fills\": " << r.front.tetgen_fills
     << ",\n    \"cavity_enlargements\": " << r.front.cavity_enlargements
+    << ",\n    \"removability_tests\": " << r.front.removability_tests
+    << ",\n    \"front_work_limit_reached\": " << (r.front.work_limit_reached ? "true" : "false")
     << ",\n    \"steiner_points\": " << r.front.steiner_points << ",\n    \"dropped_interior_nodes_outside\": "
     << r.dropped_outside << ",\n    \"dropped_interior_nodes_near_boundary\": " << r.dropped_near_boundary << ",\n    \"dropped_patch_nodes_near_curves\": " << r.dropped_patch_nodes << ",\n    \"front_seconds\": " << num(r.front_seconds)
     << ",\n    \"final_tets\": " << r.final_tets << ",\n    \"improved\": " << (r.improved ? "true" : "false") << ",\n    \"improvement\": {\"worst_before\": "
@@ -184,6 +186,9 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
   o << "front:    " << r.tets << " tets, " << r.front_seconds << " s (modified Delaunay " << r.front.delaunay_tets
     << ", best quality " << r.front.best_quality_tets << ", undo rounds " << r.front.undo_rounds << ", cavities " << r.front.cavities
     << ", Steiner points " << r.front.steiner_points << ")\n";
+  if(r.front.work_limit_reached)
+    o << "front:    stopped at its work budget (" << r.front.removability_tests
+      << " removability tests); the cavity fillers closed the rest\n";
   if(r.front.cavities > 0)
     o << "cavities: " << r.front.vertex_star_fills << " closed from a vertex, " << r.front.steiner_star_fills
       << " from a Steiner point, " << r.front.tetgen_fills << " TetGen runs, " << r.front.cavity_enlargements

@@ -255,6 +255,30 @@ TEST(AdvancingFront, StopsWhenAsked)
   EXPECT_TRUE(check(r, d).is_valid());
 }
 
+TEST(AdvancingFront, WorkBudgetHandsTheRestToTheFillers)
+{
+  // a front past its work budget stops, and the cavity fillers close what is
+  // left: a valid mesh of the whole box, whatever the budget
+  const Domain d = box(1, 1, 1, 0.2, 4, 0.3);
+  Field field(Metric::from_entries(1.0, 0, 0, 16.0, 0, 16.0));
+  for(double per_node : {0.0, 0.5, 2.0, 500.0}) {
+    Front::Parameters prm;
+    prm.removability_tests_per_node = per_node;
+    const Front::Result r = Front(field, prm).run(d.points, d.boundary);
+    EXPECT_TRUE(check(r, d).is_valid()) << per_node;
+    const auto& s = r.statistics;
+    EXPECT_EQ(s.work_limit_reached, per_node < 100) << per_node;
+    if(per_node == 0)
+      EXPECT_EQ(s.delaunay_tets + s.best_quality_tets, 0u);
+    if(s.work_limit_reached)
+      EXPECT_GT(s.cavity_tets, 0u) << per_node;
+    else
+      EXPECT_EQ(s.cavity_tets, 0u);
+    std::cout << "budget " << per_node << " tests per node: " << s.removability_tests << " tests, front tets "
+              << s.delaunay_tets + s.best_quality_tets << ", filled " << s.cavity_tets << "\n";
+  }
+}
+
 TEST(AdvancingFront, StretchedMetricAlignsTets)
 {
   // a jittered lattice stretched 4x along x, and the metric that sees it as a

@@ -167,6 +167,12 @@ public:
     inv_ = cell > 0 ? 1.0 / cell : 1.0;
     cells_.assign(std::size_t(n_[0] * n_[1] * n_[2]), std::vector<int>());
   }
+  /// removes every item
+  void clear()
+  {
+    for(auto& c : cells_)
+      c.clear();
+  }
   void insert(int id, const Box& b)
   {
     for_cells(b, [&](std::vector<int>& c) { c.push_back(id); });
