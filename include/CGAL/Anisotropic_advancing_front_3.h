@@ -151,6 +151,8 @@ public:
                                          const Traits& traits = Traits())
       : field_(field), param_(parameters), traits_(traits)
   {
+    if(!(param_.removability_tests_per_node >= 0))
+      throw Bubble_mesh_3::Invalid_input("advancing front: removability_tests_per_node must be a number >= 0");
   }
 
   /// Meshes the volume enclosed by `boundary` (triangles on `points`, closed,
@@ -163,7 +165,6 @@ public:
     const auto t0 = std::chrono::steady_clock::now();
     init(points, boundary);
     advance();
-    stats_.removability_tests = removable_tests_;
     Result r;
     fill_cavities();
     collect(r);
@@ -255,7 +256,6 @@ private:
     queue_.clear();
     waiting_.clear();
     stats_ = Statistics();
-    removable_tests_ = 0;
     alive_faces_ = 0;
     // the front: boundary triangles reversed (the unmeshed side is positive)
     for(const Triangle& t : boundary)
@@ -383,7 +383,7 @@ private:
   /// pair depend only on the live nodes and front triangles in their region,
   /// and a tet changes those only inside its own box, so the others keep
   /// their decisions: on a 1:100 layer a Euclidean neighbourhood of the
-  /// tet's size woke a quarter of the front for every tet.
+  /// tet's size woke a third of the front for every tet.
   void wake_neighbours(const Tetrahedron& t)
   {
     if(waiting_count_ == 0)
@@ -612,7 +612,7 @@ private:
   // ---------------------------------------------------------- removability
   bool removable(int fid, int p)
   {
-    ++removable_tests_;
+    ++stats_.removability_tests;
     namespace F = Bubble_mesh_3::internal::front;
     const Triangle f = faces_[fid].v;
     if(traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[p]) != CGAL::POSITIVE)
@@ -930,19 +930,21 @@ private:
     waiting_.clear();
   }
 
-  /// Advances until the front is closed, the recoveries are spent, or the
-  /// work exceeds `Parameters::removability_tests_per_node` tests per node
-  /// (a front that keeps failing, as on a 1:100 layer thinner than its curved
-  /// wall's chords, would otherwise run for hours); the cavity fillers close
-  /// what is left.
+  /// whether the front's work passed `Parameters::removability_tests_per_node`
+  /// tests per node (at least 200 nodes' worth: small fronts may take a few
+  /// hundred tests per tet); once it has, it stays so for the run
   bool over_budget()
   {
-    // at least 200 nodes' worth: small fronts may take a few hundred tests per tet
-    if(double(removable_tests_) >= param_.removability_tests_per_node * double(std::max<std::size_t>(xyz_.size(), 200)))
+    if(double(stats_.removability_tests) >=
+       param_.removability_tests_per_node * double(std::max<std::size_t>(xyz_.size(), 200)))
       stats_.work_limit_reached = true;
     return stats_.work_limit_reached;
   }
 
+  /// Advances until the front is closed, the recoveries are spent, or the
+  /// work budget is spent (a front that keeps failing, as on a 1:100 layer
+  /// thinner than the sagitta of its curved wall's chords, would otherwise
+  /// run for hours); the cavity fillers close what is left.
   void advance()
   {
     int rounds = 0;
@@ -1081,7 +1083,6 @@ private:
   long alive_faces_ = 0;
   long budget_ = 0;
   std::size_t decisions_ = 0;
-  std::size_t removable_tests_ = 0;
   mutable std::optional<Metric> qi_metric_;
   mutable Eigen::Matrix3d qi_;
   Statistics stats_;

@@ -274,8 +274,20 @@ TEST(AdvancingFront, WorkBudgetHandsTheRestToTheFillers)
       EXPECT_GT(s.cavity_tets, 0u) << per_node;
     else
       EXPECT_EQ(s.cavity_tets, 0u);
+    if(!s.work_limit_reached)
+      EXPECT_LT(s.removability_tests, 3 * r.tets.size()) << "a front that closes well tests about once per tet";
     std::cout << "budget " << per_node << " tests per node: " << s.removability_tests << " tests, front tets "
               << s.delaunay_tets + s.best_quality_tets << ", filled " << s.cavity_tets << "\n";
+  }
+}
+
+TEST(AdvancingFront, RefusesABadWorkBudget)
+{
+  Field field(Metric::isotropic(0.2));
+  for(double bad : {-1.0, std::nan("")}) {
+    Front::Parameters prm;
+    prm.removability_tests_per_node = bad;
+    EXPECT_THROW(Front(field, prm), BM::Invalid_input) << bad;
   }
 }
 
