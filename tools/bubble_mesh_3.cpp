@@ -6,6 +6,7 @@
 #include <CGAL/Bubble_mesh_3/IO/cross_section_svg.h>
 #include <CGAL/Bubble_mesh_3/IO/medit.h>
 #include <CGAL/Bubble_mesh_3/IO/read_triangle_surface.h>
+#include <CGAL/Bubble_mesh_3/detect_features.h>
 #include <CGAL/Bubble_mesh_3/IO/sol.h>
 #include <CGAL/Bubble_mesh_3/IO/vtu.h>
 #include <CGAL/Bubble_mesh_3/IO/write_file_atomically.h>
@@ -65,12 +66,15 @@ const char* const usage_text =
     "\n"
     "Usage:\n"
     "  bubble_mesh_3 SURFACE -o OUT.mesh [METRIC] [--vtu OUT.vtu] [--feature-angle DEG]\n"
-    "                [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
+    "                [--min-feature-length L] [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
     "                [--max-nodes N] [--section S.svg [--section-plane x|y|z=VALUE]]\n"
     "                [--time-limit SECONDS] [--no-improve] [--quiet]\n"
     "      Mesh the volume inside a closed triangle surface (OFF, OBJ, STL, PLY):\n"
     "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
-    "      at more than DEG degrees from flat, default 60), surface patches and the\n"
+    "      at more than DEG degrees from flat, default 60; a crease with a free end\n"
+    "      shorter than L elements in the metric, default 1, is dropped: it separates\n"
+    "      no patches and its corners would be nodes closer than an element; 0 keeps\n"
+    "      all, as CGAL's detect_features), surface patches and the\n"
     "      interior, then an anisotropic advancing front, then metric flips and\n"
     "      smoothing of the worst tets (--no-improve: skip). Progress goes to stderr,\n"
     "      a summary (nodes, tets, times, metric quality) to stdout. Without a\n"
@@ -399,7 +403,7 @@ int run_mesh(int argc, char** argv)
   const Options o = parse_options(argc, argv, 1,
                                   {"-o", "--vtu", "--size", "--metric-const", "--metric-mesh", "--metric-sol",
                                    "--metric-cylindrical", "--metric-boundary-layer", "--metric-ugawg", "--surface-distance", "--section", "--section-plane",
-                                   "--feature-angle", "--report", "--histogram", "--seed", "--threads", "--max-nodes",
+                                   "--feature-angle", "--min-feature-length", "--report", "--histogram", "--seed", "--threads", "--max-nodes",
                                    "--time-limit"},
                                   {"--quiet", "--no-improve"});
   if(o.positional.size() != 1)
@@ -414,6 +418,10 @@ int run_mesh(int argc, char** argv)
   const double angle = o.has("--feature-angle") ? parse_number(o.get("--feature-angle"), "--feature-angle") : 60.0;
   if(!(angle >= 0 && angle <= 180))
     throw Usage_error("--feature-angle must be between 0 and 180 degrees");
+  const double min_feature_length =
+      o.has("--min-feature-length") ? parse_number(o.get("--min-feature-length"), "--min-feature-length") : 1.0;
+  if(!(min_feature_length >= 0))
+    throw Usage_error("--min-feature-length must be a number >= 0");
   const unsigned seed = o.has("--seed") ? unsigned(parse_count(o.get("--seed"), "--seed")) : 0u;
   const int threads = o.has("--threads") ? parse_count(o.get("--threads"), "--threads") : 0;
   const double max_nodes = o.has("--max-nodes") ? parse_number(o.get("--max-nodes"), "--max-nodes")
@@ -470,12 +478,29 @@ int run_mesh(int argc, char** argv)
   if(checks.reversed_components > 0)
     progress("repaired: " + std::to_string(checks.reversed_components) + " component(s) of " +
              file_name(surface_path) + " reversed (outer boundaries face out, cavities in)");
-  Domain domain(polyhedron);
-  domain.detect_features(angle);
   const Command_line_metric metric = Command_line_metric::from_options(o, diagonal / 20, &surface);
   progress("metric: " + metric.description());
   if(!metric.note().empty())
     progress(metric.note());
+  // features at the size meshed: creases with a free end shorter than
+  // --min-feature-length elements are dropped (0: CGAL's detect_features)
+  BM::Detected_features<K::Point_3> features;
+  metric.visit([&](const auto& field) {
+    features = BM::detect_features(
+        polyhedron, field, BM::parameters::feature_angle(angle).minimum_feature_length(min_feature_length));
+  });
+  Domain domain(polyhedron);
+  features.add_to(domain);
+  {
+    const BM::Feature_detection_report& f = features.report;
+    progress("features: " + std::to_string(f.curves) + " curves, " + std::to_string(f.corners) + " corners, " +
+             std::to_string(f.patches) + " patches" +
+             (f.dropped_chains > 0 ? "; dropped " + std::to_string(f.dropped_chains) +
+                                         " creases with a free end shorter than " + [&] { std::ostringstream t; t << min_feature_length; return t.str(); }() +
+                                         " element(s) (" + std::to_string(f.dropped_edges) + " of " +
+                                         std::to_string(f.sharp_edges) + " sharp edges)"
+                                   : std::string()));
+  }
 
   std::string description = metric.description();
 
@@ -546,6 +571,7 @@ int run_mesh(int argc, char** argv)
   if(o.has("--report")) {
     std::string json = BM::to_json(quality);
     json.insert(json.rfind("\n}"), ",\n  \"meshing\": " + BM::to_json(meshing));
+    json.insert(json.rfind("\n}"), ",\n  \"features\": " + BM::to_json(features.report));
     BIO::write_text_file(o.get("--report"), json + "\n");
   }
   if(o.has("--histogram"))

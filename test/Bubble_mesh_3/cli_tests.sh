@@ -157,6 +157,8 @@ expect mesh-bad-metric 2 "not positive definite" -- "$tool" "$work/cube.off" -o 
 expect mesh-bad-cylindrical 2 "cylindrical" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-cylindrical 0,0,0,0,0,0,0.2,3,1 --quiet
 expect mesh-bad-plane 2 "section-plane" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --section "$work/s.svg" --section-plane w=3 --quiet
 expect mesh-bad-angle 2 "feature-angle" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --feature-angle 200 --quiet
+expect mesh-bad-min-feature 2 "min-feature-length" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --min-feature-length -1 --quiet
+expect mesh-nan-min-feature 2 "min-feature-length" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --min-feature-length nan --quiet
 expect mesh-bad-threads 2 "threads" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --threads -2 --quiet
 check "no output after refusals" [ ! -e "$work/x.mesh" ]
 

@@ -10,6 +10,7 @@
 // feature edges the curves, and CGAL's own C3T3 tools must accept it.
 
 #include <CGAL/make_anisotropic_mesh_3.h>
+#include <CGAL/Bubble_mesh_3/detect_features.h>
 
 #include <CGAL/Bubble_mesh_3/Quality_report.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
@@ -471,3 +472,109 @@ TEST(MakeMesh, SurfaceDistanceBoundsTheBoundaryOfACurvedWall)
 }
 
 } // namespace
+
+// The unit cube with a crease on its top: the top is an 11 x 11 grid whose
+// vertices at x = 0.5, 0.4 <= y <= 0.6 are raised by 0.15 (slopes of 1.5
+// across the crease, which fades out to y = 0.3 and 0.7), so a short chain of
+// sharp edges with free ends lies inside the top patch.
+std::string creased_box_off()
+{
+  const int n = 11;
+  auto height = [](int i, int j) { return (i == 5 && j >= 4 && j <= 6) ? 0.15 : 0.0; };
+  std::ostringstream o;
+  o.precision(17);
+  o << "OFF\n" << 2 * n * n << ' ' << 4 * (n - 1) * (n - 1) + 8 * (n - 1) << " 0\n";
+  for(int layer = 0; layer < 2; ++layer)
+    for(int j = 0; j < n; ++j)
+      for(int i = 0; i < n; ++i)
+        o << i / double(n - 1) << ' ' << j / double(n - 1) << ' ' << (layer ? 1.0 + height(i, j) : 0.0) << '\n';
+  auto id = [&](int layer, int i, int j) { return layer * n * n + i + n * j; };
+  for(int layer = 0; layer < 2; ++layer)
+    for(int j = 0; j + 1 < n; ++j)
+      for(int i = 0; i + 1 < n; ++i) {
+        const int a = id(layer, i, j), b = id(layer, i + 1, j), c = id(layer, i + 1, j + 1), d = id(layer, i, j + 1);
+        if(layer) // top: counter-clockwise seen from above
+          o << "3 " << a << ' ' << b << ' ' << c << "\n3 " << a << ' ' << c << ' ' << d << '\n';
+        else
+          o << "3 " << a << ' ' << c << ' ' << b << "\n3 " << a << ' ' << d << ' ' << c << '\n';
+      }
+  std::vector<std::pair<int, int>> ring; // the grid's boundary, counter-clockwise seen from above
+  for(int i = 0; i + 1 < n; ++i) ring.push_back({i, 0});
+  for(int j = 0; j + 1 < n; ++j) ring.push_back({n - 1, j});
+  for(int i = n - 1; i > 0; --i) ring.push_back({i, n - 1});
+  for(int j = n - 1; j > 0; --j) ring.push_back({0, j});
+  for(std::size_t k = 0; k < ring.size(); ++k) {
+    const auto a = ring[k], b = ring[(k + 1) % ring.size()];
+    const int ab = id(0, a.first, a.second), bb = id(0, b.first, b.second);
+    const int at = id(1, a.first, a.second), bt = id(1, b.first, b.second);
+    o << "3 " << ab << ' ' << bb << ' ' << bt << "\n3 " << ab << ' ' << bt << ' ' << at << '\n';
+  }
+  return o.str();
+}
+
+TEST(DetectFeatures, DropsShortCreasesWithAFreeEndOnly)
+{
+  auto detect = [](double h, double min_length, Polyhedron& p) {
+    p = from_off(creased_box_off());
+    return BM::detect_features(p, CGAL::Constant_metric_field_3<K>(Metric::isotropic(h)),
+                               BM::parameters::minimum_feature_length(min_length));
+  };
+  Polyhedron p;
+  // CGAL's features (nothing dropped): the cube's 12 edges and the crease
+  const auto all = detect(1, 0, p);
+  std::cout << "crease: " << BM::to_json(all.report) << "\n";
+  EXPECT_EQ(all.report.dropped_chains, 0u);
+  EXPECT_GT(all.report.curves, 12u);
+  EXPECT_EQ(all.report.patches, 6u);
+  {
+    Polyhedron q = from_off(creased_box_off());
+    Domain cgal(q);
+    cgal.detect_features(60);
+    std::vector<std::tuple<Domain::Curve_index, std::pair<K::Point_3, Domain::Index>, std::pair<K::Point_3, Domain::Index>>> curves;
+    cgal.get_curves(std::back_inserter(curves));
+    EXPECT_EQ(curves.size(), all.report.curves);
+  }
+  // at size 1 the crease (0.2 to 0.4 long) is shorter than an element: dropped,
+  // patches unchanged; the cube's edges (between corners) stay
+  const auto coarse = detect(1, 1, p);
+  EXPECT_GE(coarse.report.dropped_chains, 1u);
+  EXPECT_EQ(coarse.report.curves, 12u);
+  EXPECT_EQ(coarse.report.corners, 8u);
+  EXPECT_EQ(coarse.report.patches, 6u);
+  EXPECT_EQ(coarse.report.sharp_edges, all.report.sharp_edges);
+  // much coarser: the cube's edges are shorter than an element too, but they
+  // have no free end
+  EXPECT_EQ(detect(10, 1, p).report.curves, 12u);
+  // fine: the crease is several elements long and stays
+  const auto fine = detect(0.02, 1, p);
+  EXPECT_EQ(fine.report.dropped_chains, 0u);
+  EXPECT_EQ(fine.report.curves, all.report.curves);
+  // bad parameters
+  EXPECT_THROW(BM::detect_features(p, CGAL::Constant_metric_field_3<K>(Metric::isotropic(1)),
+                                   BM::parameters::minimum_feature_length(-1.0)),
+               BM::Invalid_input);
+  EXPECT_THROW(BM::detect_features(p, CGAL::Constant_metric_field_3<K>(Metric::isotropic(1)),
+                                   BM::parameters::feature_angle(200.0)),
+               BM::Invalid_input);
+
+  // the domain built from the marked polyhedron meshes into a valid mesh with
+  // the cube's features only
+  Polyhedron marked;
+  const auto features = detect(0.5, 2, marked); // two elements: the whole crease
+  EXPECT_GE(features.report.dropped_chains, 1u);
+  Domain domain(marked);
+  features.add_to(domain);
+  const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.5));
+  BM::Meshing_report report;
+  const BM::Indexed_tet_mesh_3 mesh = BM::make_indexed_anisotropic_mesh_3(
+      domain, field, BM::parameters::number_of_threads(1).meshing_report(&report).random_seed(3u));
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  const BM::Validity_report v = BM::check_validity(mesh, opt);
+  if(!v.is_valid())
+    BM::print_validity_summary(std::cerr, v);
+  EXPECT_TRUE(v.is_valid());
+  EXPECT_EQ(mesh.corners.size(), 8u);
+  std::set<int> curves(mesh.edge_refs.begin(), mesh.edge_refs.end());
+  EXPECT_EQ(curves.size(), 12u);
+}

@@ -38,6 +38,8 @@ enum improvement_time_limit_t { improvement_time_limit };
 enum time_limit_t { time_limit };
 enum should_stop_t { should_stop };
 enum surface_distance_t { surface_distance };
+enum feature_angle_t { feature_angle };
+enum minimum_feature_length_t { minimum_feature_length };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -64,6 +66,8 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, time_limit)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, should_stop)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, surface_distance)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, feature_angle)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, minimum_feature_length)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -96,6 +100,10 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, time_limit)
 /// a `std::function<bool()>` polled at check points; when it returns true, `Interrupted` is thrown
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, should_stop)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, surface_distance)
+/// `detect_features()`: an edge is sharp when its faces' normals differ by more than this (degrees, default 60)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, feature_angle)
+/// `detect_features()`: chains with a free end shorter than this metric length are dropped (default 1; 0 keeps all)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, minimum_feature_length)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, callback)

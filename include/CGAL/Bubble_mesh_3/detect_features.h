@@ -1,0 +1,273 @@
+// Copyright (c) 2026  Bubble_mesh_3 developers. All rights reserved.
+//
+// This file is part of the Bubble_mesh_3 package for CGAL.
+// SPDX-License-Identifier: GPL-3.0-or-later
+//
+// Feature detection at the size meshed. CGAL's detect_features(angle) makes a
+// feature curve of every chain of sharp edges, however short: on a scanned or
+// decimated surface (the armadillo, a femur, a coarse knot) most of them are
+// isolated creases a fraction of an element long, each ending in two corners
+// the packer must keep as nodes a fraction of an element apart, so the tets
+// between them are needles no later stage can mend. A chain that has a free
+// end (a crease that fades out into its patch) separates nothing: dropping it
+// leaves every patch as it was. Dropping those shorter than one element
+// (measured in the metric) keeps every feature the mesh can represent.
+#ifndef CGAL_BUBBLE_MESH_3_DETECT_FEATURES_H
+#define CGAL_BUBBLE_MESH_3_DETECT_FEATURES_H
+
+#include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/internal/json.h>
+#include <CGAL/Bubble_mesh_3/parameters.h>
+#include <CGAL/Polygon_mesh_processing/detect_features.h>
+#include <CGAL/property_map.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace CGAL {
+namespace Bubble_mesh_3 {
+
+/// What `detect_features()` found and what it dropped.
+struct Feature_detection_report {
+  std::size_t sharp_edges = 0;    ///< edges whose dihedral angle passed the angle test
+  std::size_t dropped_chains = 0; ///< chains with a free end shorter than the minimum length
+  std::size_t dropped_edges = 0;  ///< sharp edges in those chains
+  std::size_t curves = 0;         ///< polylines given to the domain
+  std::size_t corners = 0;        ///< distinct end points of the open polylines
+  std::size_t patches = 0;        ///< surface patches (unchanged by the dropping)
+};
+
+/// the report as a JSON object (keys as the member names)
+inline std::string to_json(const Feature_detection_report& r)
+{
+  auto num = [](std::size_t x) { return internal::format_json_number(double(x)); };
+  return "{\"sharp_edges\": " + num(r.sharp_edges) + ", \"dropped_chains\": " + num(r.dropped_chains) +
+         ", \"dropped_edges\": " + num(r.dropped_edges) + ", \"curves\": " + num(r.curves) +
+         ", \"corners\": " + num(r.corners) + ", \"patches\": " + num(r.patches) + "}";
+}
+
+/// The feature curves of a polyhedron, with the surface patches each one
+/// borders, ready to be given to a `Polyhedral_mesh_domain_with_features_3`
+/// built from that polyhedron.
+template <typename Point_3, typename Patch_id = int>
+struct Detected_features {
+  std::vector<std::vector<Point_3>> polylines; ///< closed ones repeat their first point at the end
+  std::vector<std::vector<Patch_id>> incident_patches;
+  Feature_detection_report report;
+
+  /// adds the curves to `domain` (which must have been built from the
+  /// polyhedron `detect_features()` marked, and have no features yet)
+  template <typename Domain>
+  void add_to(Domain& domain) const
+  {
+    std::vector<std::pair<std::vector<typename Domain::Point_3>, std::vector<typename Domain::Surface_patch_index>>>
+        with_patches;
+    with_patches.reserve(polylines.size());
+    for(std::size_t i = 0; i < polylines.size(); ++i) {
+      with_patches.emplace_back();
+      for(const Point_3& p : polylines[i])
+        with_patches.back().first.emplace_back(p.x(), p.y(), p.z());
+      for(const Patch_id& id : incident_patches[i])
+        with_patches.back().second.push_back(typename Domain::Surface_patch_index(id));
+    }
+    typedef typename decltype(with_patches)::value_type Entry;
+    domain.add_features_and_incidences(with_patches.begin(), with_patches.end(),
+                                       CGAL::First_of_pair_property_map<Entry>(),
+                                       CGAL::Second_of_pair_property_map<Entry>());
+  }
+};
+
+/// \ingroup PkgBubbleMesh3Functions
+/// Detects the sharp features of `polyhedron` for meshing with `metric`:
+/// marks its sharp edges and numbers its surface patches as
+/// `Polyhedral_mesh_domain_with_features_3::detect_features()` does (an edge
+/// is sharp when the normals of its two faces differ by more than the feature
+/// angle), then un-marks every chain of sharp edges that has a free end and is
+/// shorter, in `metric`, than the minimum feature length, repeatedly (a chain
+/// left with a free end by the removal of its branches is tested in turn).
+/// Such a chain borders the same patch on both sides, so patches do not
+/// change; chains between corners where three or more chains meet and closed
+/// chains are always kept. Returns the remaining chains split into polylines
+/// (at corners and at turns of 90 degrees or sharper, as CGAL splits them),
+/// to be given to the domain:
+/// \code
+///   auto features = CGAL::Bubble_mesh_3::detect_features(polyhedron, metric);
+///   Domain domain(polyhedron);
+///   features.add_to(domain);
+/// \endcode
+///
+/// \tparam Polyhedron `Mesh_polyhedron_3<K>::type` (the polyhedron type of
+///   `Polyhedral_mesh_domain_with_features_3`), closed and triangulated
+/// \tparam MetricField a model of `MetricField_3`
+/// \param np optional named parameters: `feature_angle` (degrees, default 60,
+///   as CGAL's), `minimum_feature_length` (metric length below which a chain
+///   with a free end is dropped; default 1, one element; 0 keeps everything,
+///   which is CGAL's `detect_features()`)
+/// \throws Invalid_input if the angle is not in [0, 180] or the length is
+///   negative or not a number
+template <typename Polyhedron, typename MetricField, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Detected_features<typename boost::property_traits<typename boost::property_map<Polyhedron, vertex_point_t>::type>::value_type>
+detect_features(Polyhedron& polyhedron, const MetricField& metric,
+                const NamedParameters& np = CGAL::parameters::default_values())
+{
+  typedef boost::graph_traits<Polyhedron> GT;
+  typedef typename GT::vertex_descriptor vertex_descriptor;
+  typedef typename GT::halfedge_descriptor halfedge_descriptor;
+  typedef typename GT::edge_descriptor edge_descriptor;
+  typedef typename boost::property_traits<typename boost::property_map<Polyhedron, vertex_point_t>::type>::value_type
+      Point_3;
+  typedef int Patch_id;
+
+  const double angle = CGAL::parameters::choose_parameter(
+      CGAL::parameters::get_parameter(np, internal_np::feature_angle), 60.0);
+  const double min_length = CGAL::parameters::choose_parameter(
+      CGAL::parameters::get_parameter(np, internal_np::minimum_feature_length), 1.0);
+  if(!(angle >= 0 && angle <= 180))
+    throw Invalid_input("detect_features: the feature angle must be between 0 and 180 degrees");
+  if(!(min_length >= 0))
+    throw Invalid_input("detect_features: the minimum feature length must be a number >= 0");
+
+  auto vpm = get(vertex_point, polyhedron);
+  auto eif = get(CGAL::edge_is_feature, polyhedron);
+  auto pid = get(CGAL::face_patch_id_t<Patch_id>(), polyhedron);
+  auto vip = get(CGAL::vertex_incident_patches_t<Patch_id>(), polyhedron);
+
+  Detected_features<Point_3> out;
+  // patch ids from 1, as CGAL numbers them (0 would read as "no patch")
+  out.report.patches = CGAL::Polygon_mesh_processing::sharp_edges_segmentation(
+      polyhedron, angle, eif, pid,
+      CGAL::parameters::first_index(1)
+          .face_index_map(get_initialized_face_index_map(polyhedron))
+          .vertex_incident_patches_map(vip));
+
+  // the sharp-edge graph: per vertex, its sharp halfedges (pointing away)
+  std::map<vertex_descriptor, std::vector<halfedge_descriptor>> around;
+  for(edge_descriptor e : edges(polyhedron))
+    if(get(eif, e)) {
+      ++out.report.sharp_edges;
+      const halfedge_descriptor h = halfedge(e, polyhedron);
+      around[source(h, polyhedron)].push_back(h);
+      around[target(h, polyhedron)].push_back(opposite(h, polyhedron));
+    }
+  auto is_sharp = [&](halfedge_descriptor h) { return bool(get(eif, edge(h, polyhedron))); };
+  auto degree = [&](vertex_descriptor v) {
+    std::size_t d = 0;
+    for(halfedge_descriptor h : around[v])
+      d += is_sharp(h) ? 1 : 0;
+    return d;
+  };
+  auto first_sharp = [&](vertex_descriptor v) {
+    for(halfedge_descriptor h : around[v])
+      if(is_sharp(h))
+        return h;
+    return around[v].front();
+  };
+  auto next_sharp = [&](vertex_descriptor v, halfedge_descriptor came_in) {
+    // the other sharp halfedge leaving v (v has degree 2)
+    for(halfedge_descriptor h : around[v])
+      if(is_sharp(h) && edge(h, polyhedron) != edge(came_in, polyhedron))
+        return h;
+    return came_in;
+  };
+  auto metric_length = [&](halfedge_descriptor h) {
+    const Point_3& a = get(vpm, source(h, polyhedron));
+    const Point_3& b = get(vpm, target(h, polyhedron));
+    const Point_3 mid = CGAL::midpoint(a, b);
+    return metric(mid).length_of(b - a);
+  };
+
+  // drop short chains with a free end, from the free ends inward
+  if(min_length > 0) {
+    std::vector<vertex_descriptor> free_ends;
+    for(const auto& entry : around)
+      if(degree(entry.first) == 1)
+        free_ends.push_back(entry.first);
+    while(!free_ends.empty()) {
+      const vertex_descriptor v = free_ends.back();
+      free_ends.pop_back();
+      if(degree(v) != 1)
+        continue;
+      std::vector<halfedge_descriptor> chain;
+      double length = 0;
+      bool one_patch = true;
+      halfedge_descriptor h = first_sharp(v);
+      for(;;) {
+        chain.push_back(h);
+        length += metric_length(h);
+        one_patch = one_patch && get(pid, face(h, polyhedron)) == get(pid, face(opposite(h, polyhedron), polyhedron));
+        const vertex_descriptor w = target(h, polyhedron);
+        if(degree(w) != 2 || w == v || length >= min_length)
+          break;
+        h = next_sharp(w, h);
+      }
+      if(length >= min_length || !one_patch)
+        continue;
+      for(halfedge_descriptor c : chain)
+        put(eif, edge(c, polyhedron), false);
+      ++out.report.dropped_chains;
+      out.report.dropped_edges += chain.size();
+      const vertex_descriptor far_end = target(chain.back(), polyhedron);
+      if(degree(far_end) == 1)
+        free_ends.push_back(far_end);
+    }
+  }
+
+  // split what is left into polylines at corners and at turns of 90 degrees
+  // or sharper
+  auto is_terminal = [&](vertex_descriptor v) {
+    const std::size_t d = degree(v);
+    if(d != 2)
+      return d > 0;
+    std::vector<vertex_descriptor> ends;
+    for(halfedge_descriptor h : around[v])
+      if(is_sharp(h))
+        ends.push_back(target(h, polyhedron));
+    return CGAL::angle(get(vpm, ends[0]), get(vpm, v), get(vpm, ends[1])) != CGAL::OBTUSE;
+  };
+  std::set<edge_descriptor> used;
+  std::set<Point_3> corners;
+  auto trace = [&](halfedge_descriptor h) {
+    std::vector<Point_3> line{get(vpm, source(h, polyhedron))};
+    std::set<Patch_id> patches;
+    const vertex_descriptor start = source(h, polyhedron);
+    for(;;) {
+      used.insert(edge(h, polyhedron));
+      patches.insert(get(pid, face(h, polyhedron)));
+      patches.insert(get(pid, face(opposite(h, polyhedron), polyhedron)));
+      const vertex_descriptor w = target(h, polyhedron);
+      line.push_back(get(vpm, w));
+      if(w == start || is_terminal(w))
+        break;
+      h = next_sharp(w, h);
+    }
+    if(line.front() != line.back()) {
+      corners.insert(line.front());
+      corners.insert(line.back());
+    }
+    out.polylines.push_back(std::move(line));
+    out.incident_patches.emplace_back(patches.begin(), patches.end());
+  };
+  for(const auto& entry : around)
+    if(is_terminal(entry.first))
+      for(halfedge_descriptor h : entry.second)
+        if(is_sharp(h) && !used.count(edge(h, polyhedron)))
+          trace(h);
+  for(const auto& entry : around) // closed chains without a corner
+    for(halfedge_descriptor h : entry.second)
+      if(is_sharp(h) && !used.count(edge(h, polyhedron)))
+        trace(h);
+  out.report.curves = out.polylines.size();
+  out.report.corners = corners.size();
+  return out;
+}
+
+} // namespace Bubble_mesh_3
+} // namespace CGAL
+
+#endif // CGAL_BUBBLE_MESH_3_DETECT_FEATURES_H
