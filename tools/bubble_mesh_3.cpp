@@ -68,14 +68,17 @@ const char* const usage_text =
     "  bubble_mesh_3 SURFACE -o OUT.mesh [METRIC] [--vtu OUT.vtu] [--feature-angle DEG]\n"
     "                [--min-feature-length L] [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
     "                [--max-nodes N] [--section S.svg [--section-plane x|y|z=VALUE]]\n"
-    "                [--time-limit SECONDS] [--no-improve] [--quiet]\n"
+    "                [--time-limit SECONDS] [--no-small-feature-refinement] [--no-improve] [--quiet]\n"
     "      Mesh the volume inside a closed triangle surface (OFF, OBJ, STL, PLY):\n"
     "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
     "      at more than DEG degrees from flat, default 60; a crease with a free end\n"
     "      shorter than L elements in the metric, default 1, is dropped: it separates\n"
     "      no patches and its corners would be nodes closer than an element; 0 keeps\n"
     "      all, as CGAL's detect_features), surface patches and the\n"
-    "      interior, then an anisotropic advancing front, then metric flips and\n"
+    "      interior (where corners and curves are closer to each other than the\n"
+    "      metric's size it is refined to their distance, growing by half the\n"
+    "      distance away from them; --no-small-feature-refinement keeps it as\n"
+    "      given), then an anisotropic advancing front, then metric flips and\n"
     "      smoothing of the worst tets (--no-improve: skip). Progress goes to stderr,\n"
     "      a summary (nodes, tets, times, metric quality) to stdout. Without a\n"
     "      METRIC the size is 1/20 of the bounding box diagonal. The mesh (MEDIT,\n"
@@ -405,9 +408,10 @@ int run_mesh(int argc, char** argv)
                                    "--metric-cylindrical", "--metric-boundary-layer", "--metric-ugawg", "--surface-distance", "--section", "--section-plane",
                                    "--feature-angle", "--min-feature-length", "--report", "--histogram", "--seed", "--threads", "--max-nodes",
                                    "--time-limit"},
-                                  {"--quiet", "--no-improve"});
+                                  {"--quiet", "--no-improve", "--no-small-feature-refinement"});
   if(o.positional.size() != 1)
     throw Usage_error("give exactly one SURFACE file (see bubble_mesh_3 --help)");
+  const bool small_features = !o.has("--no-small-feature-refinement");
   if(!o.has("-o"))
     throw Usage_error("missing -o OUT.mesh");
   const std::string out = o.get("-o");
@@ -512,13 +516,19 @@ int run_mesh(int argc, char** argv)
     metric.visit([&](const auto& user_field) {
       // the field meshed (and measured): the user's, intersected near the
       // surface with the curvature sizes of the distance bound
-      const auto field = BM::make_surface_approximation_metric_field_3(domain, user_field, surface_distance);
-      if(field.bounded()) {
+      const auto approximating = BM::make_surface_approximation_metric_field_3(domain, user_field, surface_distance);
+      if(approximating.bounded()) {
         std::ostringstream d;
-        d << metric.description() << " with surface distance " << field.distance();
+        d << metric.description() << " with surface distance " << approximating.distance();
         description = d.str();
-        progress("metric near the surface: curvature sizes for a distance bound of " + std::to_string(field.distance()));
+        progress("metric near the surface: curvature sizes for a distance bound of " +
+                 std::to_string(approximating.distance()));
       }
+      // refined where corners and curves are closer than its sizes
+      const auto field = small_features ? BM::make_feature_size_metric_field_3(domain, approximating)
+                                        : CGAL::Feature_size_metric_field_3<std::decay_t<decltype(approximating)>>(approximating);
+      if(field.refines())
+        description += ", refined at small features";
       mesh = BM::make_indexed_anisotropic_mesh_3(
           domain, field,
           BM::parameters::random_seed(seed)

@@ -20,6 +20,7 @@
 #include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Bubble_packer_3.h>
+#include <CGAL/Feature_size_metric_field_3.h>
 #include <CGAL/Surface_approximation_metric_field_3.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -107,6 +108,11 @@ struct Meshing_report {
   /// the bound D the metric was intersected with near the surface
   /// (`surface_distance`; 0: none) and the seconds its curvature estimate took
   double surface_distance_bound = 0, surface_metric_seconds = 0;
+  /// small features (`small_feature_refinement`): the corner and curve
+  /// samples where the features are closer than the metric's sizes, the
+  /// smallest size they ask (0: none), and the seconds their search took
+  std::size_t small_feature_samples = 0;
+  double smallest_feature_size = 0, feature_size_seconds = 0;
   double c3t3_seconds = 0; ///< padding and conversion (make_anisotropic_mesh_3 only)
   std::size_t padding_tets = 0;
   double total_seconds = 0;
@@ -156,7 +162,9 @@ inline std::string to_json(const Meshing_report& r)
     << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
     << ",\n    \"input_to_boundary_distance\": " << num(r.input_to_boundary_distance)
     << ",\n    \"volume_error\": " << num(r.volume_error) << ",\n    \"surface_distance_bound\": "
-    << num(r.surface_distance_bound) << ",\n    \"total_seconds\": "
+    << num(r.surface_distance_bound) << ",\n    \"small_feature_samples\": " << r.small_feature_samples
+    << ",\n    \"smallest_feature_size\": " << num(r.smallest_feature_size)
+    << ",\n    \"feature_size_seconds\": " << num(r.feature_size_seconds) << ",\n    \"total_seconds\": "
     << num(r.total_seconds) << "\n  }";
   return o.str();
 }
@@ -279,6 +287,8 @@ struct Meshing_settings {
   /// the surface-approximation bound: 0 or infinite for none (the default),
   /// negative for a fraction of the bounding box diagonal
   double surface_distance = 0;
+  /// refine the metric where corners and curves are closer than its sizes
+  bool small_feature_refinement = true;
 };
 
 template <typename NP>
@@ -309,6 +319,8 @@ Meshing_settings resolve_settings(const NP& np)
   s.surface_distance = choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::surface_distance), 0.0);
   if(std::isnan(s.surface_distance))
     throw Invalid_input("surface_distance: not a number");
+  s.small_feature_refinement =
+      choose_parameter(get_parameter(np, Bubble_mesh_3::internal_np::small_feature_refinement), true);
   return s;
 }
 
@@ -452,14 +464,54 @@ template <typename F>
 struct Is_surface_approximation_field : std::false_type {};
 template <typename F>
 struct Is_surface_approximation_field<CGAL::Surface_approximation_metric_field_3<F>> : std::true_type {};
+template <typename F>
+struct Is_feature_size_field : std::false_type {};
+template <typename F>
+struct Is_feature_size_field<CGAL::Feature_size_metric_field_3<F>> : std::true_type {};
 
 template <typename MeshDomain, typename MetricField>
 Domain_mesh mesh_checked_domain(const MeshDomain& domain, const MetricField& field, const Meshing_settings& s,
                                 std::chrono::steady_clock::time_point t_start, Meshing_report& rep);
 
+template <typename MetricField>
+void report_feature_sizes(const CGAL::Feature_size_metric_field_3<MetricField>& field, const Meshing_settings& s,
+                          Meshing_report& rep)
+{
+  const auto& st = field.statistics();
+  rep.small_feature_samples = st.refined_samples;
+  rep.smallest_feature_size = field.refines() ? st.smallest_size : 0;
+  rep.feature_size_seconds = st.seconds;
+  if(s.progress && field.refines()) {
+    std::ostringstream m;
+    m << "small features: " << st.refined_samples << " of " << st.samples
+      << " corner and curve samples closer than the metric's size, sizes down to " << st.smallest_size << " ("
+      << st.smallest_ratio << " of the metric's)";
+    if(st.floored_samples > 0)
+      m << ", " << st.floored_samples << " raised to " << field.smallest_relative_size() << " of it";
+    m << ", " << rep.feature_size_seconds << " s";
+    s.progress(m.str());
+  }
+}
+
+/// The feature sizes over `field` (unless turned off), then the meshing.
+template <typename MeshDomain, typename MetricField>
+Domain_mesh mesh_with_feature_sizes(const MeshDomain& domain, const MetricField& field, const Meshing_settings& s,
+                                    std::chrono::steady_clock::time_point t_start, Meshing_report& rep)
+{
+  const auto refined = s.small_feature_refinement ? make_feature_size_metric_field_3(domain, field)
+                                                  : CGAL::Feature_size_metric_field_3<MetricField>(field);
+  report_feature_sizes(refined, s, rep);
+  Stop_check(s, t_start)("the feature sizes");
+  return mesh_checked_domain(domain, refined, s, t_start, rep);
+}
+
 /// The whole pipeline up to the domain's tet mesh: input checks, the
-/// surface-approximation metric, packing, boundary front, advancing front,
-/// improvement, validity.
+/// surface-approximation metric, the small features' sizes, packing,
+/// boundary front, advancing front, improvement, validity. The field meshed
+/// is always a `Feature_size_metric_field_3` (one instantiation of the
+/// stages): the user's field, intersected with the curvature sizes of the
+/// surface-distance bound if any, refined at small features; a field the
+/// caller built as either is used as it is.
 template <typename MeshDomain, typename MetricField>
 Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, const Meshing_settings& s)
 {
@@ -472,12 +524,18 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
   check_domain_surface(domain);
   Stop_check(s, t_start)("the input checks");
 
-  // the user's metric near the surface intersected with the one that keeps
-  // the boundary within the bound (a field the caller built already is used
-  // as it is)
-  // (one instantiation of the stages: without a bound the field passes the
-  // user's metric through)
-  if constexpr(!Is_surface_approximation_field<MetricField>::value) {
+  if constexpr(Is_feature_size_field<MetricField>::value) {
+    if constexpr(Is_surface_approximation_field<typename MetricField::Base_field>::value)
+      rep.surface_distance_bound = field.base_field().bounded() ? field.base_field().distance() : 0;
+    report_feature_sizes(field, s, rep);
+    return mesh_checked_domain(domain, field, s, t_start, rep);
+  } else if constexpr(Is_surface_approximation_field<MetricField>::value) {
+    rep.surface_distance_bound = field.bounded() ? field.distance() : 0;
+    return mesh_with_feature_sizes(domain, field, s, t_start, rep);
+  } else {
+    // the user's metric near the surface intersected with the one that keeps
+    // the boundary within the bound (without a bound the field passes the
+    // user's metric through)
     const auto t0 = std::chrono::steady_clock::now();
     const auto approximating = make_surface_approximation_metric_field_3(domain, field, s.surface_distance);
     rep.surface_distance_bound = approximating.bounded() ? approximating.distance() : 0;
@@ -486,10 +544,7 @@ Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, cons
       s.progress("surface metric: curvature sizes for a distance bound of " +
                  std::to_string(rep.surface_distance_bound) + ", " + std::to_string(rep.surface_metric_seconds) +
                  " s");
-    return mesh_checked_domain(domain, approximating, s, t_start, rep);
-  } else {
-    rep.surface_distance_bound = field.bounded() ? field.distance() : 0;
-    return mesh_checked_domain(domain, field, s, t_start, rep);
+    return mesh_with_feature_sizes(domain, approximating, s, t_start, rep);
   }
 }
 
@@ -900,6 +955,11 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///     measured with a first version of the field: 306 to 9,616 vertices, volume error 35 % to 0.9 %) and the
 ///     field costs about 1 microsecond per evaluation (elephant at 0.03: 2.3 s to 20 s). A field that is already a `Surface_approximation_metric_field_3` is used as it is}
 ///     \cgalParamType{double} \cgalParamDefault{0 (off)} \cgalParamNEnd
+///   \cgalParamNBegin{small_feature_refinement} \cgalParamDescription{refine the metric where the domain's corners
+///     and feature curves are closer to each other than its sizes (`CGAL::Feature_size_metric_field_3`: sizes down
+///     to the features' distance there, growing by half the distance away from them), so short curves and corner
+///     clusters do not force flat tets. A field that is already a `Feature_size_metric_field_3` is used as it is}
+///     \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
 ///   \cgalParamNBegin{callback} \cgalParamDescription{progress messages}
 ///     \cgalParamType{std::function<void(const std::string&)>} \cgalParamDefault{none} \cgalParamNEnd
 ///   \cgalParamNBegin{meshing_report} \cgalParamDescription{filled with counts and times}

@@ -275,6 +275,19 @@ check "graded 1:1000: the fine corner is seeded" [ "$(json_value "$ext/graded100
 check "graded 1:1000: most edges of unit metric length" awk -v v="$(json_value "$ext/graded1000.json" in_range_fraction)" 'BEGIN { exit !(v > 0.7) }'
 extreme plate plate.off --metric-const 400,0,0,400,0,20408.16327
 check "plate: volume 0.02" near "$(json_value "$ext/plate.json" volume)" 0.02 1e-9
+# Small features: the small plate's rims are 0.02 apart, a fifth of the size
+# asked; the metric is refined there (reported), and the worst angle beats the
+# metric as given (--no-small-feature-refinement)
+expect small-features 0 "" -- "$tool" "$ext/plate_small.off" -o "$ext/sf.mesh" --size 0.1 --threads 1 \
+  --report "$ext/sf.json" --quiet
+expect small-features-off 0 "" -- "$tool" "$ext/plate_small.off" -o "$ext/sfoff.mesh" --size 0.1 --threads 1 \
+  --no-small-feature-refinement --report "$ext/sfoff.json" --quiet
+check "small features: samples reported" [ "$(json_value "$ext/sf.json" small_feature_samples)" -gt 0 ]
+check "small features: smallest size 0.02" near "$(json_value "$ext/sf.json" smallest_feature_size)" 0.02 1e-6
+check "small features off: none reported" [ "$(json_value "$ext/sfoff.json" small_feature_samples)" = "0" ]
+check "small features: better worst angle than off" awk -v a="$(json_value "$ext/sf.json" worst)" \
+  -v b="$(json_value "$ext/sfoff.json" worst)" 'BEGIN { exit !(a != "" && b != "" && a > b + 5) }'
+expect small-features-valid 0 "" -- "$tool" eval "$ext/sf.mesh" --size 0.1 --require-valid --quiet
 extreme needle needle.off --size 0.007
 extreme wedge10 wedge10.off --size 0.03
 # 1e6 from the origin: the boundary front's volume sum cancelled to noise

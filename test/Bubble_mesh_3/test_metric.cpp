@@ -2,6 +2,7 @@
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Feature_size_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
 #include <CGAL/Surface_approximation_metric_field_3.h>
 #include <CGAL/Bubble_mesh_3/internal/surface_curvature.h>
@@ -380,6 +381,85 @@ TEST(SurfaceApproximationField, CurvatureSizesGradedIntoTheVolume)
   EXPECT_THROW(F(user, sphere.points, sphere.triangles, sphere.patches, -1.0), CGAL::Bubble_mesh_3::Invalid_input);
   EXPECT_THROW(F(user, sphere.points, sphere.triangles, sphere.patches, 1e-9), CGAL::Bubble_mesh_3::Invalid_input);
   EXPECT_THROW(F(user, sphere.points, sphere.triangles, {}, D), CGAL::Bubble_mesh_3::Invalid_input);
+}
+
+// Feature sizes: corners and curves closer than the user's size refine it to
+// their distance, growing by the gradation away from them; features far
+// apart, curves meeting at a corner and a curve's own straight stretch
+// change nothing.
+TEST(FeatureSizeField, RefinesWhereFeaturesAreCloserThanTheSize)
+{
+  typedef CGAL::Constant_metric_field_3<K> User;
+  typedef CGAL::Feature_size_metric_field_3<User> Field;
+  typedef Field::Curve Curve;
+  const User user(Metric_3::isotropic(1.0));
+  auto size_at = [](const Field& f, double x, double y, double z) { return f.feature_size(K::Point_3(x, y, z)); };
+  auto curve = [](std::vector<std::array<double, 3>> pts, int a, int b) {
+    Curve c;
+    c.points = std::move(pts);
+    c.first_corner = a;
+    c.last_corner = b;
+    return c;
+  };
+  // a square of side 4 with a short curve of length 0.1 between two of its
+  // corners' neighbours: corners 0..3 of the square, 4 and 5 the short curve
+  const std::vector<std::array<double, 3>> corners{
+      {{0, 0, 0}}, {{4, 0, 0}}, {{4, 4, 0}}, {{0, 4, 0}}, {{2, 0, 0}}, {{2.1, 0, 0}}};
+  const std::vector<Curve> curves{curve({{{0, 0, 0}}, {{2, 0, 0}}}, 0, 4),
+                                  curve({{{2, 0, 0}}, {{2.1, 0, 0}}}, 4, 5),
+                                  curve({{{2.1, 0, 0}}, {{4, 0, 0}}}, 5, 1),
+                                  curve({{{4, 0, 0}}, {{4, 4, 0}}}, 1, 2),
+                                  curve({{{4, 4, 0}}, {{0, 4, 0}}}, 2, 3),
+                                  curve({{{0, 4, 0}}, {{0, 0, 0}}}, 3, 0)};
+  const Field field(user, corners, curves, 0.5);
+  ASSERT_TRUE(field.refines());
+  EXPECT_NEAR(field.statistics().smallest_size, 0.1, 1e-9);
+  // at the short curve: its length; 1 away: 0.1 + 0.5 x 1; far: no less than the user's size
+  EXPECT_NEAR(size_at(field, 2.05, 0, 0), 0.1 + 0.5 * 0.05, 1e-9);
+  EXPECT_NEAR(size_at(field, 2.0, 1.0, 0), 0.1 + 0.5 * 1.0, 1e-9);
+  EXPECT_GE(size_at(field, 2, 3.5, 0), 1.0);
+  const Metric_3 refined = field(K::Point_3(2.05, 0, 0));
+  EXPECT_NEAR(1 / refined.length(Vector(1, 0, 0)), 0.125, 1e-9);
+  EXPECT_NEAR(1 / refined.length(Vector(0, 0, 1)), 0.125, 1e-9);
+  EXPECT_TRUE(field(K::Point_3(2, 3.5, 0)).matrix().isApprox(user.metric().matrix()));
+  // the square's own corners and sides (4 apart, meeting at right angles)
+  // ask for nothing at size 1
+  const std::vector<std::array<double, 3>> square_corners(corners.begin(), corners.begin() + 4);
+  const std::vector<Curve> square{curve({{{0, 0, 0}}, {{4, 0, 0}}}, 0, 1), curves[3], curves[4], curves[5]};
+  EXPECT_FALSE(Field(user, square_corners, square, 0.5).refines());
+  // two parallel curves 0.2 apart that share no corner: sizes 0.2 between them
+  const std::vector<std::array<double, 3>> four{{{0, 0, 0}}, {{3, 0, 0}}, {{0, 0.2, 0}}, {{3, 0.2, 0}}};
+  const Field parallel(user, four,
+                       {curve({{{0, 0, 0}}, {{3, 0, 0}}}, 0, 1), curve({{{0, 0.2, 0}}, {{3, 0.2, 0}}}, 2, 3)}, 0.5);
+  EXPECT_NEAR(size_at(parallel, 1.5, 0.1, 0), 0.2 + 0.5 * 0.1, 0.02);
+  // an anisotropic metric already fine across the pair (0.05 along z):
+  // curves 0.2 apart along z ask for nothing, 0.2 apart along y they do
+  const User thin(Metric_3::from_entries(1, 0, 0, 1, 0, 400));
+  const std::vector<std::array<double, 3>> stacked{{{0, 0, 0}}, {{3, 0, 0}}, {{0, 0, 0.2}}, {{3, 0, 0.2}}};
+  EXPECT_FALSE(CGAL::Feature_size_metric_field_3<User>(
+                   thin, stacked, {curve({{{0, 0, 0}}, {{3, 0, 0}}}, 0, 1), curve({{{0, 0, 0.2}}, {{3, 0, 0.2}}}, 2, 3)},
+                   0.5)
+                   .refines());
+  EXPECT_TRUE(CGAL::Feature_size_metric_field_3<User>(
+                  thin, four, {curve({{{0, 0, 0}}, {{3, 0, 0}}}, 0, 1), curve({{{0, 0.2, 0}}, {{3, 0.2, 0}}}, 2, 3)}, 0.5)
+                  .refines());
+  // a closed curve of length about 1.2 needs three nodes: sizes 0.4 on it
+  std::vector<std::array<double, 3>> ring;
+  for(int i = 0; i < 64; ++i)
+    ring.push_back({{0.19 * std::cos(i * M_PI / 32), 0.19 * std::sin(i * M_PI / 32), 0}});
+  Curve loop;
+  loop.points = ring;
+  loop.closed = true;
+  const Field small_loop(user, {}, {loop}, 0.5);
+  EXPECT_NEAR(size_at(small_loop, 0.19, 0, 0), 2 * M_PI * 0.19 / 3, 0.02);
+  // a finer user metric is kept; bad input refused
+  const User fine(Metric_3::isotropic(0.05));
+  EXPECT_FALSE(CGAL::Feature_size_metric_field_3<User>(fine, corners, curves, 0.5).refines());
+  EXPECT_THROW(Field(user, corners, curves, 0.0), CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(Field(user, corners, curves, std::nan("")), CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(Field(user, corners, {curve({{{0, 0, 0}}}, 0, 1)}, 0.5), CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(Field(user, corners, {curve({{{0, 0, 0}}, {{1, 0, 0}}}, 0, 9)}, 0.5),
+               CGAL::Bubble_mesh_3::Invalid_input);
 }
 
 } // namespace

@@ -40,6 +40,7 @@ enum should_stop_t { should_stop };
 enum surface_distance_t { surface_distance };
 enum feature_angle_t { feature_angle };
 enum minimum_feature_length_t { minimum_feature_length };
+enum small_feature_refinement_t { small_feature_refinement };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -68,6 +69,7 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, surface_distance)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, feature_angle)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, minimum_feature_length)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, small_feature_refinement)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -104,6 +106,9 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, surface_distance)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, feature_angle)
 /// `detect_features()`: chains with a free end shorter than this metric length are dropped (default 1; 0 keeps all)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, minimum_feature_length)
+/// refine the metric where the domain's corners and feature curves are closer than its sizes (default true;
+/// `CGAL::Feature_size_metric_field_3`)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, small_feature_refinement)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, callback)
