@@ -280,6 +280,8 @@ private:
       // an open curve's last point is its end corner: not a curve sample
     }
     d.statistics.samples = samples.size();
+    if(samples.empty())
+      return; // no corners and no curves (a torus, a sphere): nothing to refine
 
     // the feature size of each sample, from the samples within the user's
     // largest size there

@@ -452,6 +452,8 @@ TEST(FeatureSizeField, RefinesWhereFeaturesAreCloserThanTheSize)
   loop.closed = true;
   const Field small_loop(user, {}, {loop}, 0.5);
   EXPECT_NEAR(size_at(small_loop, 0.19, 0, 0), 2 * M_PI * 0.19 / 3, 0.02);
+  // no features at all (a torus): nothing to refine
+  EXPECT_FALSE(Field(user, {}, {}, 0.5).refines());
   // a finer user metric is kept; bad input refused
   const User fine(Metric_3::isotropic(0.05));
   EXPECT_FALSE(CGAL::Feature_size_metric_field_3<User>(fine, corners, curves, 0.5).refines());
