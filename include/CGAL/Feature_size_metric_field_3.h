@@ -201,6 +201,7 @@ private:
   struct Source { // a refining sample: size a at p
     Eigen::Vector3d p;
     double a;
+    double h; // the user's largest size there
   };
 
   struct Data {
@@ -232,7 +233,10 @@ private:
   // the largest and smallest sizes of the user's metric at p
   std::pair<double, double> user_sizes(const Eigen::Vector3d& p) const
   {
-    const Metric m = field_(Point_3(p[0], p[1], p[2]));
+    return sizes_of(field_(Point_3(p[0], p[1], p[2])));
+  }
+  static std::pair<double, double> sizes_of(const Metric& m)
+  {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
     eig.computeDirect(m.matrix(), Eigen::EigenvaluesOnly);
     return {1 / std::sqrt(eig.eigenvalues().minCoeff()), 1 / std::sqrt(eig.eigenvalues().maxCoeff())};
@@ -315,8 +319,7 @@ private:
     for(std::size_t i = 0; i < samples.size(); ++i) {
       const Sample& s = samples[i];
       const Metric user = field_(Point_3(s.p[0], s.p[1], s.p[2]));
-      const auto sizes = user_sizes(s.p);
-      const double h = sizes.first;
+      const double h = sizes_of(user).first;
       double a = std::numeric_limits<double>::infinity();
       if(s.curve >= 0)
         a = curve_bound(s.curve);
@@ -360,7 +363,7 @@ private:
       }
       d.statistics.smallest_size = std::min(d.statistics.smallest_size, a);
       d.statistics.smallest_ratio = std::min(d.statistics.smallest_ratio, a / h);
-      refining.push_back(Source{s.p, a});
+      refining.push_back(Source{s.p, a, h});
       largest_reach = std::max(largest_reach, reach(refining.back(), h));
     }
     if(refining.empty())
@@ -372,7 +375,7 @@ private:
     std::sort(refining.begin(), refining.end(), [](const Source& x, const Source& y) { return x.a < y.a; });
     std::vector<double> reaches;
     for(const Source& s : refining)
-      reaches.push_back(reach(s, user_sizes(s.p).first));
+      reaches.push_back(reach(s, s.h));
     std::vector<double> sorted_reaches = reaches;
     std::nth_element(sorted_reaches.begin(), sorted_reaches.begin() + std::ptrdiff_t(sorted_reaches.size() / 2),
                      sorted_reaches.end());
