@@ -146,14 +146,25 @@ detect_features(Polyhedron& polyhedron, const MetricField& metric,
           .face_index_map(get_initialized_face_index_map(polyhedron))
           .vertex_incident_patches_map(vip));
 
-  // the sharp-edge graph: per vertex, its sharp halfedges (pointing away)
+  // the sharp-edge graph: per vertex, its sharp halfedges (pointing away).
+  // Walked in the order the vertices were first met (`sharp_vertices`), not
+  // in the map's: a Polyhedron_3 descriptor compares by address, so the
+  // map's order, and with it the curves' order and every node placed after,
+  // would change with the heap's layout (the command line's arguments did).
   std::map<vertex_descriptor, std::vector<halfedge_descriptor>> around;
+  std::vector<vertex_descriptor> sharp_vertices;
+  auto add_sharp = [&](vertex_descriptor v, halfedge_descriptor h) {
+    std::vector<halfedge_descriptor>& at = around[v];
+    if(at.empty())
+      sharp_vertices.push_back(v);
+    at.push_back(h);
+  };
   for(edge_descriptor e : edges(polyhedron))
     if(get(eif, e)) {
       ++out.report.sharp_edges;
       const halfedge_descriptor h = halfedge(e, polyhedron);
-      around[source(h, polyhedron)].push_back(h);
-      around[target(h, polyhedron)].push_back(opposite(h, polyhedron));
+      add_sharp(source(h, polyhedron), h);
+      add_sharp(target(h, polyhedron), opposite(h, polyhedron));
     }
   auto is_sharp = [&](halfedge_descriptor h) { return bool(get(eif, edge(h, polyhedron))); };
   auto degree = [&](vertex_descriptor v) {
@@ -185,9 +196,9 @@ detect_features(Polyhedron& polyhedron, const MetricField& metric,
   // drop short chains with a free end, from the free ends inward
   if(min_length > 0) {
     std::vector<vertex_descriptor> free_ends;
-    for(const auto& entry : around)
-      if(degree(entry.first) == 1)
-        free_ends.push_back(entry.first);
+    for(vertex_descriptor v : sharp_vertices)
+      if(degree(v) == 1)
+        free_ends.push_back(v);
     while(!free_ends.empty()) {
       const vertex_descriptor v = free_ends.back();
       free_ends.pop_back();
@@ -253,13 +264,13 @@ detect_features(Polyhedron& polyhedron, const MetricField& metric,
     out.polylines.push_back(std::move(line));
     out.incident_patches.emplace_back(patches.begin(), patches.end());
   };
-  for(const auto& entry : around)
-    if(is_terminal(entry.first))
-      for(halfedge_descriptor h : entry.second)
+  for(vertex_descriptor v : sharp_vertices)
+    if(is_terminal(v))
+      for(halfedge_descriptor h : around[v])
         if(is_sharp(h) && !used.count(edge(h, polyhedron)))
           trace(h);
-  for(const auto& entry : around) // closed chains without a corner
-    for(halfedge_descriptor h : entry.second)
+  for(vertex_descriptor v : sharp_vertices) // closed chains without a corner
+    for(halfedge_descriptor h : around[v])
       if(is_sharp(h) && !used.count(edge(h, polyhedron)))
         trace(h);
   out.report.curves = out.polylines.size();
