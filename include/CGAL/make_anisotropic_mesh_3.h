@@ -156,7 +156,8 @@ inline std::string to_json(const Meshing_report& r)
     << ", \"p01_before\": " << num(r.improvement.p01_before) << ", \"p01_after\": " << num(r.improvement.p01_after)
     << ", \"flips_2_3\": " << r.improvement.flips_2_3 << ", \"flips_3_2\": " << r.improvement.flips_3_2
     << ", \"flips_4_4\": " << r.improvement.flips_4_4 << ", \"edge_removals\": " << r.improvement.edge_removals
-    << ", \"smoothing_moves\": " << r.improvement.smoothing_moves << ", \"seconds\": " << num(r.improvement.seconds)
+    << ", \"smoothing_moves\": " << r.improvement.smoothing_moves << ", \"edge_splits\": " << r.improvement.edge_splits
+    << ", \"boundary_edge_splits\": " << r.improvement.boundary_edge_splits << ", \"seconds\": " << num(r.improvement.seconds)
     << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"surface_distance\": "
     << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
@@ -212,6 +213,9 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
       << i.p01_after << " deg, " << i.tets_after << " tets, " << i.seconds << " s (2-3 " << i.flips_2_3 << ", 3-2 "
       << i.flips_3_2 << ", 4-4 " << i.flips_4_4 << ", edge removals " << i.edge_removals << ", boundary flips "
       << i.boundary_flips << ", moves " << i.smoothing_moves << " of which " << i.boundary_moves << " on the boundary"
+      << (i.edge_splits > 0 ? ", edge splits " + std::to_string(i.edge_splits) + " of which " +
+                                  std::to_string(i.boundary_edge_splits) + " on the boundary"
+                            : std::string())
       << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
   }
   o.precision(3);
@@ -862,8 +866,19 @@ Domain_mesh mesh_checked_domain(const MeshDomain& domain, const MetricField& fie
     io.curve_projection = [&projections](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
       return projections.curve(ref, p, q);
     };
+    // where flips and moves are stuck, split edges (new vertices, located below)
+    io.edge_splits = true;
     rep.improvement = improve_mesh(m, field, io);
     rep.improved = true;
+    if(m.points.size() > out.locations.size()) {
+      // the split vertices: on their patch if in a boundary triangle, else inside
+      std::vector<char> on_boundary(m.points.size(), 0);
+      for(const auto& f : m.triangles)
+        for(int v : f)
+          on_boundary[std::size_t(v)] = 1;
+      for(std::size_t v = out.locations.size(); v < m.points.size(); ++v)
+        out.locations.push_back(C3t3_vertex_location{on_boundary[v] ? 2 : 3, m.point_refs[v]});
+    }
     say("improvement: worst metric min dihedral " + std::to_string(rep.improvement.worst_before) + " -> " +
         std::to_string(rep.improvement.worst_after) + " deg, " + std::to_string(rep.improvement.seconds) + " s");
   }

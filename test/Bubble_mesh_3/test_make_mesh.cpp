@@ -204,11 +204,12 @@ Outcome mesh_indexed(const std::string& off, const Field& field, double volume, 
   o.validity = BM::check_validity(o.mesh, opt);
   if(!o.validity.is_valid())
     BM::print_validity_summary(std::cerr, o.validity);
-  // exactly the packed nodes plus the reported Steiner points, all used
+  // exactly the packed nodes plus the reported Steiner points and edge
+  // splits, all used
   const auto& r = o.report;
   EXPECT_EQ(o.mesh.points.size(), r.nodes[0] + r.nodes[1] + r.nodes[2] + r.nodes[3] + r.added_boundary_nodes +
-                                      r.front.steiner_points - r.dropped_outside - r.dropped_near_boundary -
-                                      r.dropped_patch_nodes);
+                                      r.front.steiner_points + r.improvement.edge_splits - r.dropped_outside -
+                                      r.dropped_near_boundary - r.dropped_patch_nodes);
   EXPECT_EQ(o.validity.unused_vertices, 0u);
   return o;
 }

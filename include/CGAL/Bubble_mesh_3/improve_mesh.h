@@ -170,8 +170,10 @@
 /// only with a `curve_projection`, those on curved patches only with a
 /// `surface_projection`, corners never, and
 /// triangles of curved patches are never flipped, so a bad tet whose
-/// vertices are all on curved features may stay. No vertex insertion or edge
-/// contraction: the number of vertices is fixed. No multi-face removal.
+/// vertices are all on curved features may stay. Vertex insertion only by
+/// the optional edge splits (`Improvement_options::edge_splits`, off by
+/// default: then the number of vertices is fixed); no edge contraction, no
+/// multi-face removal.
 /// Smoothing maximises the worst tet of a ball, which can lower its other
 /// tets (the mean quality may drop when smoothing alone is used).
 
@@ -214,6 +216,19 @@ struct Improvement_options {
   /// for a vertex of a sliver that smoothing could not move: push it off
   /// the sliver's opposite face, then random trial moves
   bool sliver_moves = true;
+  /// when flips and moves are stuck: split an edge of each tet still below
+  /// `split_below_angle` (an interior edge, or a boundary edge of one patch
+  /// with a `surface_projection`; never a feature edge), at the point near
+  /// its midpoint that maximises the worst of the new tets (on the patch's
+  /// surface for a boundary edge), when that raises the worst tet around
+  /// the edge by a degree or more; then flips and moves again (up to three
+  /// rounds). Adds vertices (appended to `points`, and to `point_refs` if it
+  /// is filled: the patch of a boundary vertex, the subdomain of an interior
+  /// one) and splits listed triangles (the second halves appended).
+  /// Off by default: a caller holding data per vertex (a C3T3) must expect
+  /// the new vertices.
+  bool edge_splits = false;
+  double split_below_angle = 15;
   /// seed of those random trial moves (the result is a function of it)
   unsigned random_seed = 0;
   /// tets of ref 0 are padding outside the domain (as the cells outside the
@@ -278,6 +293,10 @@ struct Improvement_report {
   /// those of sliver vertices by the push off the opposite face or by a
   /// random trial move
   std::size_t sliver_moves = 0;
+  /// edge splits (`Improvement_options::edge_splits`: one new vertex each),
+  /// and those of boundary edges (two listed triangles become four)
+  std::size_t edge_splits = 0;
+  std::size_t boundary_edge_splits = 0;
   /// slivers (metric edges within a factor 2, smallest dihedral angle below
   /// 20 degrees, largest above 140)
   std::size_t slivers_before = 0;
@@ -335,6 +354,8 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   settings.curved_boundary_flips = options.curved_boundary_flips;
   settings.sliver_moves = options.sliver_moves;
   settings.random_seed = options.random_seed;
+  settings.edge_splits = options.edge_splits;
+  settings.split_below_angle = options.split_below_angle;
   settings.should_stop = options.should_stop;
 
   internal::improve::Mesh_improver<MetricField_3> improver(work, field, settings);
@@ -358,6 +379,8 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   report.boundary_moves = c.boundary_moves;
   report.boundary_flips = c.boundary_flips;
   report.sliver_moves = c.sliver_moves;
+  report.edge_splits = c.edge_splits;
+  report.boundary_edge_splits = c.boundary_edge_splits;
   report.passes = c.passes;
   report.time_limit_reached = c.time_limit_reached;
   report.seconds = improver.elapsed_seconds();

@@ -62,6 +62,10 @@ struct Improver_settings {
   /// off the opposite face, then random trial moves
   bool sliver_moves = true;
   int perturbation_trials = 16;
+  /// when flips and moves are done: split an edge of each tet still below
+  /// `split_below_angle` (see `Mesh_improver::split_phase()`); adds vertices
+  bool edge_splits = false;
+  double split_below_angle = 15;
   unsigned random_seed = 0;
   /// polled with the clock; true stops the work like the time limit
   std::function<bool()> should_stop;
@@ -80,6 +84,9 @@ struct Improver_counters {
   std::size_t boundary_flips = 0;
   /// accepted moves of sliver vertices by the push or by perturbation
   std::size_t sliver_moves = 0;
+  /// edge splits (each adds a vertex), and those of boundary edges
+  std::size_t edge_splits = 0;
+  std::size_t boundary_edge_splits = 0;
   int passes = 0;
   bool time_limit_reached = false;
 };
@@ -203,7 +210,8 @@ public:
   typedef Mutable_tet_mesh::Tet Tet;
 
   Mesh_improver(Mutable_tet_mesh& mesh, const MetricField_3& field, const Improver_settings& settings)
-    : m_(mesh), quality_(field), s_(settings), start_(std::chrono::steady_clock::now())
+    : m_(mesh), quality_(field), s_(settings), target_(settings.target_angle),
+      start_(std::chrono::steady_clock::now())
   {
     q_.resize(m_.tets.size());
     for(std::size_t t = 0; t < m_.tets.size(); ++t)
@@ -259,19 +267,27 @@ public:
   /// first, until no flip improves, then (2) one smoothing sweep over the
   /// free vertices of the bad tets, worst ball first. Stops when a pass
   /// changes nothing, after `maximum_passes`, or at the time limit.
+  /// With `edge_splits`, then rounds of edge splits of the tets still
+  /// below `split_below_angle`, each followed by passes again.
   void run()
   {
-    for(int pass = 0; pass < s_.maximum_passes; ++pass) {
-      if(!has_bad_tet())
+    const int split_rounds = s_.edge_splits ? 3 : 0;
+    for(int round = 0;; ++round) {
+      for(int pass = 0; pass < s_.maximum_passes; ++pass) {
+        if(!has_bad_tet())
+          break;
+        ++c_.passes;
+        std::size_t changes = 0;
+        if(s_.flips)
+          changes += flip_phase();
+        if(s_.smoothing && !c_.time_limit_reached)
+          changes += smoothing_phase();
+        if(c_.time_limit_reached || changes == 0)
+          break;
+      }
+      if(round >= split_rounds || c_.time_limit_reached || split_phase() == 0)
         break;
-      ++c_.passes;
-      std::size_t changes = 0;
-      if(s_.flips)
-        changes += flip_phase();
-      if(s_.smoothing && !c_.time_limit_reached)
-        changes += smoothing_phase();
-      if(c_.time_limit_reached || changes == 0)
-        break;
+      target_ = std::min(s_.target_angle, s_.split_below_angle);
     }
   }
 
@@ -324,7 +340,7 @@ private:
 
   void push_if_bad(int t)
   {
-    if(q_[std::size_t(t)] < s_.target_angle)
+    if(q_[std::size_t(t)] < target_)
       queue_.push({q_[std::size_t(t)], t, m_.stamp[std::size_t(t)]});
   }
 
@@ -956,6 +972,222 @@ private:
     return d;
   }
 
+  // ---- edge splits ------------------------------------------------------------
+
+  /// Local refinement where flips and moves are stuck (a cap in a thin part,
+  /// a flat tet whose four vertices are all on the boundary): for each tet
+  /// below `split_below_angle`, worst first, its edges are tried longest
+  /// (in the metric) first, and the first split that raises the worst tet
+  /// around the edge is applied. Feature edges and interfaces are not split.
+  /// Returns the number of splits.
+  std::size_t split_phase()
+  {
+    std::vector<std::pair<double, int>> bad;
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && !m_.is_passive(int(t)) && q_[t] < s_.split_below_angle)
+        bad.push_back({q_[t], int(t)});
+    std::sort(bad.begin(), bad.end());
+    // at most 1 % of the vertices per round, worst tets first: where far more
+    // tets are stuck (features far closer than the sizes) splits would
+    // mostly add short edges
+    const std::size_t budget = std::max<std::size_t>(16, m_.points.size() / 100);
+    std::size_t splits = 0;
+    for(const auto& entry : bad) {
+      if(splits >= budget)
+        break;
+      const int t = entry.second;
+      if(!m_.alive[std::size_t(t)] || q_[std::size_t(t)] != entry.first)
+        continue; // changed by an earlier split
+      const Tet T = m_.tets[std::size_t(t)];
+      static constexpr int edges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+      std::vector<std::pair<double, int>> order;
+      for(int e = 0; e < 6; ++e) {
+        const Eigen::Vector3d& a = P(T[std::size_t(edges[e][0])]);
+        const Eigen::Vector3d& b = P(T[std::size_t(edges[e][1])]);
+        order.push_back({-quality_.metric_at(0.5 * (a + b)).length(b - a), e});
+      }
+      std::sort(order.begin(), order.end());
+      for(const auto& o : order)
+        if(split_edge(t, T[std::size_t(edges[o.second][0])], T[std::size_t(edges[o.second][1])])) {
+          ++splits;
+          break;
+        }
+      if(out_of_time())
+        break;
+    }
+    return splits;
+  }
+
+  /// Splits the edge (a, b) of tet `t` if a new vertex near its midpoint
+  /// gives the 2n tets replacing the n around it a worst quality at least
+  /// 1 degree above theirs. The vertex is placed by a compass search from
+  /// the midpoint (in the metric's frame there): free for an interior edge;
+  /// for a boundary edge of one patch (with a surface projection), on that
+  /// patch's surface, each new boundary triangle turning by at most 20
+  /// degrees from the one it replaces, and it then slides on the patch.
+  bool split_edge(int t, int a, int b)
+  {
+    if(m_.is_feature_edge(a, b))
+      return false;
+    const bool boundary = m_.is_protected_edge(a, b);
+    std::vector<int> ring, ring_tets;
+    if(boundary) {
+      if(!m_.surface_projection || m_.has_duplicate_triangles ||
+         !m_.edge_fan(a, b, s_.maximum_ring_size - 1, ring, ring_tets))
+        return false;
+    } else if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring, ring_tets))
+      return false;
+    const int ref = m_.refs[std::size_t(t)];
+    double old_worst = std::numeric_limits<double>::infinity();
+    for(int s : ring_tets) {
+      if(m_.refs[std::size_t(s)] != ref || m_.is_passive(s))
+        return false;
+      old_worst = std::min(old_worst, q_[std::size_t(s)]);
+    }
+    const int n = int(ring.size());
+    int patch = 0;
+    Eigen::Vector3d old_normals[2];
+    if(boundary) {
+      const int p0 = ring.front(), pk = ring.back();
+      if(!m_.is_protected_face(a, b, p0) || !m_.is_protected_face(a, b, pk) ||
+         m_.listed_triangle(a, b, p0) < 0 || m_.listed_triangle(a, b, pk) < 0 ||
+         m_.face_patch(a, b, p0) != m_.face_patch(a, b, pk))
+        return false;
+      for(int i = 1; i + 1 < n; ++i)
+        if(m_.is_protected_face(a, b, ring[std::size_t(i)]))
+          return false;
+      if(m_.opposite_tet(ring_tets.front(), a, b, p0) >= 0 || m_.opposite_tet(ring_tets.back(), a, b, pk) >= 0)
+        return false; // an interface
+      patch = m_.face_patch(a, b, p0);
+      // outward: away from the apex of the tet on each face
+      const int apex[2] = {ring[1], ring[std::size_t(n - 2)]};
+      const int ends[2] = {p0, pk};
+      for(int k = 0; k < 2; ++k) {
+        Eigen::Vector3d normal = (P(b) - P(a)).cross(P(ends[k]) - P(a));
+        if(normal.dot(P(apex[k]) - P(a)) > 0)
+          normal = -normal;
+        old_normals[k] = normal;
+      }
+    }
+    // the new tets, -1 standing for the new vertex
+    std::vector<Tet> templates;
+    const int tets_around = boundary ? n - 1 : n;
+    for(int i = 0; i < tets_around; ++i) {
+      const int p = ring[std::size_t(i)], q = ring[std::size_t((i + 1) % n)];
+      templates.push_back(Tet{{-1, b, p, q}});
+      templates.push_back(Tet{{a, -1, p, q}});
+    }
+    auto point = [&](int v, const Eigen::Vector3d& x) -> const Eigen::Vector3d& { return v < 0 ? x : P(v); };
+    const double cos_turn = cos_of_largest_boundary_turn();
+    auto evaluate = [&](const Eigen::Vector3d& x, double threshold) {
+      if(boundary) {
+        const int ends[2] = {ring.front(), ring.back()};
+        for(int k = 0; k < 2; ++k)
+          for(int u : {a, b}) {
+            Eigen::Vector3d normal = (P(u) - x).cross(P(ends[k]) - x);
+            if(normal.dot(old_normals[k]) < 0)
+              normal = -normal; // orientation is checked by the tets
+            if(!(normal.dot(old_normals[k]) > cos_turn * normal.norm() * old_normals[k].norm()))
+              return -1.0;
+          }
+      }
+      double w = std::numeric_limits<double>::infinity();
+      for(const Tet& T : templates) {
+        w = std::min(w, quality_(point(T[0], x), point(T[1], x), point(T[2], x), point(T[3], x)));
+        if(w <= threshold)
+          return w;
+      }
+      return w;
+    };
+    auto on_surface = [&](const Eigen::Vector3d& x, Eigen::Vector3d& y) {
+      if(!boundary) {
+        y = x;
+        return true;
+      }
+      std::array<double, 3> closest;
+      if(!m_.surface_projection(patch, {{x[0], x[1], x[2]}}, closest))
+        return false;
+      y = Eigen::Vector3d(closest[0], closest[1], closest[2]);
+      return true;
+    };
+    const Eigen::Vector3d middle = 0.5 * (P(a) + P(b));
+    Eigen::Vector3d x;
+    if(!on_surface(middle, x))
+      return false;
+    double best = evaluate(x, -std::numeric_limits<double>::infinity());
+    // compass search in the metric's frame at the midpoint (tangent
+    // directions only on the surface)
+    const Metric_3 metric = quality_.metric_at(middle);
+    std::vector<Eigen::Vector3d> directions;
+    if(boundary) {
+      const Eigen::Vector3d normal = (old_normals[0].normalized() + old_normals[1].normalized()).normalized();
+      const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
+      for(int k = 0; k < 8; ++k) {
+        const double angle = k * std::acos(-1.0) / 4;
+        directions.push_back(std::cos(angle) * u + std::sin(angle) * v);
+      }
+    } else
+      for(int k = 0; k < 3; ++k)
+        for(double sign : {-1.0, 1.0})
+          directions.push_back(sign * (metric.Q_inverse() * Eigen::Vector3d::Unit(k)));
+    const double half = 0.5 * (P(b) - P(a)).norm();
+    for(Eigen::Vector3d& d : directions)
+      d *= half / d.norm();
+    for(double step = 0.5; step > 0.01;) {
+      bool moved = false;
+      for(const Eigen::Vector3d& d : directions) {
+        Eigen::Vector3d y;
+        if(!on_surface(x + step * d, y))
+          continue;
+        const double w = evaluate(y, best);
+        if(w > best) {
+          best = w;
+          x = y;
+          moved = true;
+        }
+      }
+      if(!moved)
+        step *= 0.5;
+    }
+    if(!(best > old_worst + 1.0))
+      return false;
+
+    // apply
+    Vertex_constraint constraint;
+    if(boundary) {
+      constraint.kind = Vertex_constraint::surface;
+      constraint.patch = patch;
+    }
+    const int m = m_.add_vertex(x, constraint, boundary, boundary ? patch : ref);
+    vertex_tried_.push_back(-1);
+    vertex_changed_.push_back(0);
+    std::vector<Tet> new_tets;
+    for(Tet T : templates) {
+      for(int& v : T)
+        if(v < 0)
+          v = m;
+      new_tets.push_back(T);
+    }
+    ++clock_;
+    for(int s : ring_tets)
+      for(int v : m_.tets[std::size_t(s)])
+        vertex_changed_[std::size_t(v)] = clock_;
+    vertex_changed_[std::size_t(m)] = clock_;
+    const std::vector<int> created = m_.replace(ring_tets, new_tets, ref);
+    if(boundary)
+      m_.split_boundary_faces(a, b, m, ring.front(), ring.back());
+    q_.resize(m_.tets.size());
+    tet_tried_.resize(m_.tets.size(), -1);
+    for(int s : created) {
+      tet_tried_[std::size_t(s)] = -1;
+      q_[std::size_t(s)] = tet_quality(s);
+    }
+    ++c_.edge_splits;
+    if(boundary)
+      ++c_.boundary_edge_splits;
+    return true;
+  }
+
   // ---- phases ----------------------------------------------------------------
 
   /// false if `t` was tried and nothing around it changed since
@@ -983,7 +1215,7 @@ private:
   bool has_bad_tet() const
   {
     for(std::size_t t = 0; t < m_.tets.size(); ++t)
-      if(m_.alive[t] && q_[t] < s_.target_angle)
+      if(m_.alive[t] && q_[t] < target_)
         return true;
     return false;
   }
@@ -1029,7 +1261,7 @@ private:
     std::vector<char> seen(m_.points.size(), 0);
     std::vector<std::pair<double, int>> bad;
     for(std::size_t t = 0; t < m_.tets.size(); ++t)
-      if(m_.alive[t] && q_[t] < s_.target_angle)
+      if(m_.alive[t] && q_[t] < target_)
         bad.push_back({q_[t], int(t)});
     std::sort(bad.begin(), bad.end());
     for(const auto& b : bad)
@@ -1071,6 +1303,10 @@ private:
   Mutable_tet_mesh& m_;
   Tet_quality<MetricField_3> quality_;
   Improver_settings s_;
+  /// the tets worked on are those below it: `target_angle`, then, after
+  /// edge splits, `split_below_angle` (the passes after a split round work
+  /// on the tets that splits are for, not again on all below the target)
+  double target_ = 0;
   std::chrono::steady_clock::time_point start_;
   std::vector<double> q_;
   Queue queue_;

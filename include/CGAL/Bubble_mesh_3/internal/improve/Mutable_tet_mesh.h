@@ -124,7 +124,7 @@ struct Vertex_constraint {
   /// plane: unit normal; line: unit direction
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();
   /// plane: an orthonormal basis of the plane; line: `tangent[0] == axis`
-  Eigen::Vector3d tangent[2];
+  Eigen::Vector3d tangent[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   /// plane: the coordinate held constant if the plane is axis-parallel, else
   /// -1; line: the coordinate that varies if the line is axis-parallel, else -1
   int exact_axis = -1;
@@ -336,11 +336,18 @@ public:
     return x;
   }
 
-  /// writes the tets (in slot order) and the points back
+  /// writes the tets (in slot order) and the points back; vertices added by
+  /// edge splits are appended with their refs (`added_point_refs`)
   void write_back(Indexed_tet_mesh_3& mesh) const
   {
+    const std::size_t original = mesh.points.size();
+    const bool had_point_refs = mesh.point_refs.size() == original && original > 0;
+    mesh.points.resize(points.size());
     for(std::size_t i = 0; i < points.size(); ++i)
       mesh.points[i] = {{points[i][0], points[i][1], points[i][2]}};
+    if(had_point_refs)
+      for(std::size_t i = original; i < points.size(); ++i)
+        mesh.point_refs.push_back(added_point_refs[i - original]);
     const bool had_refs = !mesh.tet_refs.empty() || mesh.tets.empty();
     mesh.tets.clear();
     mesh.tet_refs.clear();
@@ -403,6 +410,52 @@ public:
     }
     protected_edges.erase(edge_key(a, b));
     protected_edges.insert(edge_key(c, d));
+  }
+
+  /// Appends a vertex at `x` (an edge split's), with its constraint and its
+  /// ref for `write_back()`; returns its index. Its tets come by `replace()`.
+  int add_vertex(const Eigen::Vector3d& x, const Vertex_constraint& c, bool is_fixed, int point_ref)
+  {
+    points.push_back(x);
+    vertex_tets.emplace_back();
+    fixed.push_back(is_fixed ? 1 : 0);
+    constraint.push_back(c);
+    added_point_refs.push_back(point_ref);
+    return int(points.size()) - 1;
+  }
+
+  /// After the boundary edge (a, b) was split at `m`: each of its two
+  /// listed boundary faces (a, b, p), p = p0, pk, becomes (a, m, p) (in its
+  /// slot) and (m, b, p) (appended, same ref), both oriented like it; the
+  /// protected faces and edges follow.
+  void split_boundary_faces(int a, int b, int m, int p0, int pk)
+  {
+    for(int p : {p0, pk}) {
+      const Face_key old_key(a, b, p);
+      const auto it = listed_index.find(old_key);
+      CGAL_assertion(it != listed_index.end());
+      const std::size_t slot = it->second;
+      listed_index.erase(it);
+      std::array<int, 3> first = listed[slot], second = listed[slot];
+      for(int k = 0; k < 3; ++k) {
+        if(first[std::size_t(k)] == b)
+          first[std::size_t(k)] = m;
+        if(second[std::size_t(k)] == a)
+          second[std::size_t(k)] = m;
+      }
+      listed[slot] = first;
+      listed_index.emplace(Face_key(first[0], first[1], first[2]), slot);
+      listed.push_back(second);
+      listed_refs.push_back(listed_refs[slot]);
+      listed_index.emplace(Face_key(second[0], second[1], second[2]), listed.size() - 1);
+      protected_faces.erase(old_key);
+      protected_faces.insert(Face_key(first[0], first[1], first[2]));
+      protected_faces.insert(Face_key(second[0], second[1], second[2]));
+      protected_edges.insert(edge_key(m, p));
+    }
+    protected_edges.erase(edge_key(a, b));
+    protected_edges.insert(edge_key(a, m));
+    protected_edges.insert(edge_key(m, b));
   }
 
   bool is_protected_face(int a, int b, int c) const { return protected_faces.count(Face_key(a, b, c)) != 0; }
@@ -628,6 +681,8 @@ public:
   bool has_duplicate_triangles = false;
   /// what a fixed vertex may still do (free vertices: `free`)
   std::vector<Vertex_constraint> constraint;
+  /// the refs of the vertices added by `add_vertex()`, in order
+  std::vector<int> added_point_refs;
   bool exterior_ref_0 = false;
   Surface_projection surface_projection;
   Surface_projection curve_projection;
