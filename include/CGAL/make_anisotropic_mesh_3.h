@@ -157,7 +157,8 @@ inline std::string to_json(const Meshing_report& r)
     << ", \"flips_2_3\": " << r.improvement.flips_2_3 << ", \"flips_3_2\": " << r.improvement.flips_3_2
     << ", \"flips_4_4\": " << r.improvement.flips_4_4 << ", \"edge_removals\": " << r.improvement.edge_removals
     << ", \"smoothing_moves\": " << r.improvement.smoothing_moves << ", \"edge_splits\": " << r.improvement.edge_splits
-    << ", \"boundary_edge_splits\": " << r.improvement.boundary_edge_splits << ", \"seconds\": " << num(r.improvement.seconds)
+    << ", \"boundary_edge_splits\": " << r.improvement.boundary_edge_splits
+    << ", \"feature_edge_splits\": " << r.improvement.feature_edge_splits << ", \"seconds\": " << num(r.improvement.seconds)
     << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"surface_distance\": "
     << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
@@ -214,7 +215,8 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
       << i.flips_3_2 << ", 4-4 " << i.flips_4_4 << ", edge removals " << i.edge_removals << ", boundary flips "
       << i.boundary_flips << ", moves " << i.smoothing_moves << " of which " << i.boundary_moves << " on the boundary"
       << (i.edge_splits > 0 ? ", edge splits " + std::to_string(i.edge_splits) + " of which " +
-                                  std::to_string(i.boundary_edge_splits) + " on the boundary"
+                                  std::to_string(i.boundary_edge_splits) + " on the boundary (" +
+                                  std::to_string(i.feature_edge_splits) + " on feature curves)"
                             : std::string())
       << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
   }
@@ -871,13 +873,17 @@ Domain_mesh mesh_checked_domain(const MeshDomain& domain, const MetricField& fie
     rep.improvement = improve_mesh(m, field, io);
     rep.improved = true;
     if(m.points.size() > out.locations.size()) {
-      // the split vertices: on their patch if in a boundary triangle, else inside
-      std::vector<char> on_boundary(m.points.size(), 0);
+      // the split vertices: on their curve if on a feature edge, on their
+      // patch if in a boundary triangle, else inside (point_refs: the index)
+      std::vector<int> dimension(m.points.size(), 3);
       for(const auto& f : m.triangles)
         for(int v : f)
-          on_boundary[std::size_t(v)] = 1;
+          dimension[std::size_t(v)] = 2;
+      for(const auto& e : m.edges)
+        for(int v : e)
+          dimension[std::size_t(v)] = 1;
       for(std::size_t v = out.locations.size(); v < m.points.size(); ++v)
-        out.locations.push_back(C3t3_vertex_location{on_boundary[v] ? 2 : 3, m.point_refs[v]});
+        out.locations.push_back(C3t3_vertex_location{dimension[v], m.point_refs[v]});
     }
     say("improvement: worst metric min dihedral " + std::to_string(rep.improvement.worst_before) + " -> " +
         std::to_string(rep.improvement.worst_after) + " deg, " + std::to_string(rep.improvement.seconds) + " s");

@@ -1423,3 +1423,74 @@ TEST(ImproveMesh, EdgeSplitsWhereAllVerticesAreOnTheBoundary)
               r0.worst_before, r0.worst_after, r1.worst_after, r1.edge_splits, r2.worst_after, r2.edge_splits,
               r2.boundary_edge_splits);
 }
+
+// A flat cap under a curved feature curve: the ridge a-b is the chord of a
+// unit circle (the curve, ref 7, in the plane y = 0), p and q lie just below
+// it, d under them. The tet (a, b, p, q) is flat (its two boundary
+// triangles are of two patches, a-b is a feature edge: no flip or cap
+// removal applies, and flips are off) and every vertex is fixed. Splitting a-b puts a vertex on
+// the circle above the chord: the cap gets height, the curve stays one
+// chain a - m - b of ref 7, and the mesh stays valid.
+TEST(ImproveMesh, EdgeSplitOfACurvedFeatureEdge)
+{
+  const double s = 0.3, c = std::sqrt(1 - s * s);
+  BM::Indexed_tet_mesh_3 input;
+  input.points = {{{-s, 0, c}}, {{s, 0, c}}, {{0, -0.2, c - 0.02}}, {{0, 0.2, c - 0.02}}, {{0, 0, 0.5}}};
+  const int a = 0, b = 1, p = 2, q = 3, d = 4;
+  input.point_refs.assign(5, 0);
+  auto positive = [&](std::array<int, 4> t) {
+    auto P = [&](int v) { return Point(input.points[std::size_t(v)][0], input.points[std::size_t(v)][1], input.points[std::size_t(v)][2]); };
+    if(CGAL::orientation(P(t[0]), P(t[1]), P(t[2]), P(t[3])) != CGAL::POSITIVE)
+      std::swap(t[0], t[1]);
+    return t;
+  };
+  input.tets = {positive({{a, b, p, q}}), positive({{a, p, q, d}}), positive({{b, p, q, d}})};
+  input.tet_refs.assign(3, 1);
+  boundary_from_tets(input);
+  ASSERT_EQ(input.triangles.size(), 6u);
+  for(std::size_t f = 0; f < input.triangles.size(); ++f) {
+    std::set<int> v(input.triangles[f].begin(), input.triangles[f].end());
+    input.triangle_refs[f] = v.count(a) && v.count(b) ? (v.count(p) ? 1 : 2) : 3;
+  }
+  input.edges = {{{a, b}}};
+  input.edge_refs = {7};
+  input.corners = {a, b};
+  const CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.4));
+  BM::Improvement_options o = deterministic();
+  o.flips = false; // else the 3-2 flip of p-q (ring a, b, d) removes the cap
+  o.curve_projection = [](int ref, const std::array<double, 3>& x, std::array<double, 3>& y) {
+    EXPECT_EQ(ref, 7);
+    const double r = std::hypot(x[0], x[2]);
+    y = {{x[0] / r, 0.0, x[2] / r}};
+    return true;
+  };
+  BM::Indexed_tet_mesh_3 without = input;
+  const BM::Improvement_report r0 = BM::improve_mesh(without, field, o);
+  EXPECT_EQ(without.points, input.points);
+  o.edge_splits = true;
+  BM::Indexed_tet_mesh_3 mesh = input;
+  const BM::Improvement_report r = BM::improve_mesh(mesh, field, o);
+  expect_valid_with_outward_triangles(mesh);
+  EXPECT_GE(r.feature_edge_splits, 1u);
+  EXPECT_EQ(mesh.points.size(), input.points.size() + r.edge_splits);
+  EXPECT_EQ(mesh.edges.size(), input.edges.size() + r.feature_edge_splits);
+  EXPECT_EQ(mesh.edge_refs, std::vector<int>(mesh.edges.size(), 7));
+  EXPECT_EQ(mesh.triangles.size(), input.triangles.size() + 2 * r.boundary_edge_splits);
+  std::map<int, int> degree;
+  for(const auto& e : mesh.edges)
+    for(int v : e)
+      ++degree[v];
+  EXPECT_EQ(degree[a], 1);
+  EXPECT_EQ(degree[b], 1);
+  for(const auto& e : degree)
+    if(e.first != a && e.first != b) {
+      EXPECT_EQ(e.second, 2);
+      const auto& x = mesh.points[std::size_t(e.first)];
+      EXPECT_NEAR(std::hypot(x[0], x[2]), 1.0, 1e-15) << "a curve vertex off the circle";
+      EXPECT_EQ(x[1], 0.0);
+      EXPECT_EQ(mesh.point_refs[std::size_t(e.first)], 7);
+    }
+  EXPECT_GT(r.worst_after, r0.worst_after + 5);
+  std::printf("[curved ridge cap] worst %.2f without splits, %.2f with %zu (%zu on the curve)\n", r0.worst_after,
+              r.worst_after, r.edge_splits, r.feature_edge_splits);
+}

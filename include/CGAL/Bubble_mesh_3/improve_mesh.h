@@ -217,14 +217,16 @@ struct Improvement_options {
   /// the sliver's opposite face, then random trial moves
   bool sliver_moves = true;
   /// when flips and moves are stuck: split an edge of each tet still below
-  /// `split_below_angle` (an interior edge, or a boundary edge of one patch
-  /// with a `surface_projection`; never a feature edge), at the point near
+  /// `split_below_angle` (an interior edge, a boundary edge of one patch
+  /// with a `surface_projection`, a feature edge with a `curve_projection`;
+  /// never an interface edge), at the point near
   /// its midpoint that maximises the worst of the new tets (on the patch's
   /// surface for a boundary edge), when that raises the worst tet around
   /// the edge by a degree or more; then flips and moves again (up to three
   /// rounds). Adds vertices (appended to `points`, and to `point_refs` if it
   /// is filled: the patch of a boundary vertex, the subdomain of an interior
-  /// one) and splits listed triangles (the second halves appended).
+  /// one, the curve of a feature-edge vertex), splits listed triangles (the
+  /// second halves appended) and feature edges (likewise).
   /// Off by default: a caller holding data per vertex (a C3T3) must expect
   /// the new vertices.
   bool edge_splits = false;
@@ -297,6 +299,8 @@ struct Improvement_report {
   /// and those of boundary edges (two listed triangles become four)
   std::size_t edge_splits = 0;
   std::size_t boundary_edge_splits = 0;
+  /// those of feature edges (counted in `boundary_edge_splits` too)
+  std::size_t feature_edge_splits = 0;
   /// slivers (metric edges within a factor 2, smallest dihedral angle below
   /// 20 degrees, largest above 140)
   std::size_t slivers_before = 0;
@@ -381,6 +385,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   report.sliver_moves = c.sliver_moves;
   report.edge_splits = c.edge_splits;
   report.boundary_edge_splits = c.boundary_edge_splits;
+  report.feature_edge_splits = c.feature_edge_splits;
   report.passes = c.passes;
   report.time_limit_reached = c.time_limit_reached;
   report.seconds = improver.elapsed_seconds();

@@ -87,6 +87,8 @@ struct Improver_counters {
   /// edge splits (each adds a vertex), and those of boundary edges
   std::size_t edge_splits = 0;
   std::size_t boundary_edge_splits = 0;
+  /// those of feature edges (counted in both above too)
+  std::size_t feature_edge_splits = 0;
   int passes = 0;
   bool time_limit_reached = false;
 };
@@ -978,7 +980,8 @@ private:
   /// a flat tet whose four vertices are all on the boundary): for each tet
   /// below `split_below_angle`, worst first, its edges are tried longest
   /// (in the metric) first, and the first split that raises the worst tet
-  /// around the edge is applied. Feature edges and interfaces are not split.
+  /// around the edge is applied. Interfaces are not split; feature edges only
+  /// with a curve projection.
   /// Returns the number of splits.
   std::size_t split_phase()
   {
@@ -1024,15 +1027,21 @@ private:
   /// the midpoint (in the metric's frame there): free for an interior edge;
   /// for a boundary edge of one patch (with a surface projection), on that
   /// patch's surface, each new boundary triangle turning by at most 20
-  /// degrees from the one it replaces, and it then slides on the patch.
+  /// degrees from the one it replaces, and it then slides on the patch; for
+  /// a feature edge (with a curve projection), on its curve, strictly
+  /// between a and b, and it then slides along the curve.
   bool split_edge(int t, int a, int b)
   {
-    if(m_.is_feature_edge(a, b))
+    const bool feature = m_.is_feature_edge(a, b);
+    const int curve = feature ? m_.feature_edge_curve(a, b) : -1;
+    if(feature && (!m_.curve_projection || curve < 0))
       return false;
     const bool boundary = m_.is_protected_edge(a, b);
+    if(feature && !boundary)
+      return false;
     std::vector<int> ring, ring_tets;
     if(boundary) {
-      if(!m_.surface_projection || m_.has_duplicate_triangles ||
+      if((!feature && !m_.surface_projection) || m_.has_duplicate_triangles ||
          !m_.edge_fan(a, b, s_.maximum_ring_size - 1, ring, ring_tets))
         return false;
     } else if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring, ring_tets))
@@ -1051,7 +1060,7 @@ private:
       const int p0 = ring.front(), pk = ring.back();
       if(!m_.is_protected_face(a, b, p0) || !m_.is_protected_face(a, b, pk) ||
          m_.listed_triangle(a, b, p0) < 0 || m_.listed_triangle(a, b, pk) < 0 ||
-         m_.face_patch(a, b, p0) != m_.face_patch(a, b, pk))
+         (!feature && m_.face_patch(a, b, p0) != m_.face_patch(a, b, pk)))
         return false;
       for(int i = 1; i + 1 < n; ++i)
         if(m_.is_protected_face(a, b, ring[std::size_t(i)]))
@@ -1105,6 +1114,14 @@ private:
         return true;
       }
       std::array<double, 3> closest;
+      if(feature) {
+        if(!m_.curve_projection(curve, {{x[0], x[1], x[2]}}, closest))
+          return false;
+        y = Eigen::Vector3d(closest[0], closest[1], closest[2]);
+        // strictly between a and b along their chord
+        const double s = (y - P(a)).dot(P(b) - P(a)) / (P(b) - P(a)).squaredNorm();
+        return s > 0.05 && s < 0.95;
+      }
       if(!m_.surface_projection(patch, {{x[0], x[1], x[2]}}, closest))
         return false;
       y = Eigen::Vector3d(closest[0], closest[1], closest[2]);
@@ -1119,7 +1136,10 @@ private:
     // directions only on the surface)
     const Metric_3 metric = quality_.metric_at(middle);
     std::vector<Eigen::Vector3d> directions;
-    if(boundary) {
+    if(feature) {
+      directions.push_back(P(b) - P(a));
+      directions.push_back(P(a) - P(b));
+    } else if(boundary) {
       const Eigen::Vector3d normal = (old_normals[0].normalized() + old_normals[1].normalized()).normalized();
       const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
       for(int k = 0; k < 8; ++k) {
@@ -1154,11 +1174,19 @@ private:
 
     // apply
     Vertex_constraint constraint;
-    if(boundary) {
+    if(feature) {
+      constraint.kind = Vertex_constraint::curve;
+      constraint.patch = curve;
+      constraint.origin = x;
+      constraint.axis = (P(b) - P(a)).normalized();
+      constraint.tangent[0] = constraint.axis;
+      constraint.ends[0] = a;
+      constraint.ends[1] = b;
+    } else if(boundary) {
       constraint.kind = Vertex_constraint::surface;
       constraint.patch = patch;
     }
-    const int m = m_.add_vertex(x, constraint, boundary, boundary ? patch : ref);
+    const int m = m_.add_vertex(x, constraint, boundary, feature ? curve : boundary ? patch : ref);
     vertex_tried_.push_back(-1);
     vertex_changed_.push_back(0);
     std::vector<Tet> new_tets;
@@ -1176,6 +1204,8 @@ private:
     const std::vector<int> created = m_.replace(ring_tets, new_tets, ref);
     if(boundary)
       m_.split_boundary_faces(a, b, m, ring.front(), ring.back());
+    if(feature)
+      m_.split_feature_edge(a, b, m);
     q_.resize(m_.tets.size());
     tet_tried_.resize(m_.tets.size(), -1);
     for(int s : created) {
@@ -1185,6 +1215,8 @@ private:
     ++c_.edge_splits;
     if(boundary)
       ++c_.boundary_edge_splits;
+    if(feature)
+      ++c_.feature_edge_splits;
     return true;
   }
 

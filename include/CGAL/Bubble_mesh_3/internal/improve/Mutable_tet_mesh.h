@@ -228,6 +228,11 @@ public:
         protect_face(faces[i].key.v[0], faces[i].key.v[1], faces[i].key.v[2]);
       i = j;
     }
+    feature_edge_list = mesh.edges;
+    feature_edge_list_refs = mesh.edge_refs;
+    feature_edge_list_refs.resize(feature_edge_list.size(), 0);
+    for(std::size_t i = 0; i < mesh.edges.size(); ++i)
+      feature_edge_ref.emplace(edge_key(mesh.edges[i][0], mesh.edges[i][1]), feature_edge_list_refs[i]);
     for(const auto& e : mesh.edges) {
       if(e[0] < 0 || std::size_t(e[0]) >= np || e[1] < 0 || std::size_t(e[1]) >= np)
         throw Invalid_input("improve_mesh: a feature edge references a missing point");
@@ -358,6 +363,12 @@ public:
       }
     if(!had_refs)
       mesh.tet_refs.clear();
+    if(feature_edges_split) {
+      const bool had_edge_refs = mesh.edge_refs.size() == mesh.edges.size() && !mesh.edges.empty();
+      mesh.edges = feature_edge_list;
+      if(had_edge_refs)
+        mesh.edge_refs = feature_edge_list_refs;
+    }
     if(listed != mesh.triangles) { // boundary flips replaced some
       mesh.triangles = listed;
       mesh.triangle_refs.resize(listed.size());
@@ -456,6 +467,53 @@ public:
     protected_edges.erase(edge_key(a, b));
     protected_edges.insert(edge_key(a, m));
     protected_edges.insert(edge_key(m, b));
+  }
+
+  /// the curve (edge ref) of a feature edge, or -1
+  int feature_edge_curve(int a, int b) const
+  {
+    const auto it = feature_edge_ref.find(edge_key(a, b));
+    return it == feature_edge_ref.end() ? -1 : it->second;
+  }
+
+  /// After the feature edge (a, b) was split at `m` (its boundary faces by
+  /// `split_boundary_faces()`): the feature edges (a, m), (m, b) of the same
+  /// curve replace it, and `a` and `b`, if they slide along a line or curve,
+  /// have `m` as their neighbour there instead of each other.
+  void split_feature_edge(int a, int b, int m)
+  {
+    const int curve = feature_edge_curve(a, b);
+    for(std::size_t i = 0; i < feature_edge_list.size(); ++i) {
+      auto& e = feature_edge_list[i];
+      if(edge_key(e[0], e[1]) != edge_key(a, b))
+        continue;
+      const int first = e[0], second = e[1];
+      e = {{first, m}};
+      feature_edge_list.push_back({{m, second}});
+      feature_edge_list_refs.push_back(feature_edge_list_refs[i]);
+      break;
+    }
+    feature_edges.erase(edge_key(a, b));
+    feature_edge_ref.erase(edge_key(a, b));
+    for(int u : {a, b}) {
+      feature_edges.insert(edge_key(u, m));
+      protected_edges.insert(edge_key(u, m));
+      feature_edge_ref.emplace(edge_key(u, m), curve);
+    }
+    feature_edges_split = true;
+    for(int u : {a, b}) {
+      Vertex_constraint& c = constraint[std::size_t(u)];
+      if(c.kind != Vertex_constraint::curve && c.kind != Vertex_constraint::line)
+        continue;
+      const int other = u == a ? b : a;
+      for(int& end : c.ends)
+        if(end == other)
+          end = m;
+      if(c.kind == Vertex_constraint::curve) {
+        c.axis = (points[std::size_t(c.ends[1])] - points[std::size_t(c.ends[0])]).normalized();
+        c.tangent[0] = c.axis;
+      }
+    }
   }
 
   bool is_protected_face(int a, int b, int c) const { return protected_faces.count(Face_key(a, b, c)) != 0; }
@@ -683,6 +741,11 @@ public:
   std::vector<Vertex_constraint> constraint;
   /// the refs of the vertices added by `add_vertex()`, in order
   std::vector<int> added_point_refs;
+  /// the feature edges and their refs as given, then as split
+  std::vector<std::array<int, 2>> feature_edge_list;
+  std::vector<int> feature_edge_list_refs;
+  std::unordered_map<std::uint64_t, int> feature_edge_ref;
+  bool feature_edges_split = false;
   bool exterior_ref_0 = false;
   Surface_projection surface_projection;
   Surface_projection curve_projection;
