@@ -10,6 +10,7 @@
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/improve_mesh.h>
+#include <CGAL/Bubble_mesh_3/internal/boundary_self_intersections.h>
 #include <CGAL/Bubble_mesh_3/internal/c3t3/exterior_padding.h>
 #include <CGAL/Bubble_mesh_3/internal/c3t3/tet_soup_to_c3t3.h>
 #include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
@@ -96,6 +97,9 @@ struct Meshing_report {
   int boundary_repair_rounds = 0; ///< rebuilds of the boundary front to keep more of them
   double front_seconds = 0;
   bool improved = false;           ///< whether `improve_mesh()` ran
+  /// whether its first run made the boundary intersect itself (at a thin
+  /// part), so that the improvement was redone with the boundary fixed
+  bool improvement_boundary_fixed = false;
   Improvement_report improvement;  ///< its report (quality before and after, flips, moves)
   double validity_seconds = 0;
   /// how far the boundary strays from the input surface: the largest distance
@@ -151,14 +155,17 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"front_work_limit_reached\": " << (r.front.work_limit_reached ? "true" : "false")
     << ",\n    \"steiner_points\": " << r.front.steiner_points << ",\n    \"dropped_interior_nodes_outside\": "
     << r.dropped_outside << ",\n    \"dropped_interior_nodes_near_boundary\": " << r.dropped_near_boundary << ",\n    \"dropped_patch_nodes_near_curves\": " << r.dropped_patch_nodes << ",\n    \"front_seconds\": " << num(r.front_seconds)
-    << ",\n    \"final_tets\": " << r.final_tets << ",\n    \"improved\": " << (r.improved ? "true" : "false") << ",\n    \"improvement\": {\"worst_before\": "
+    << ",\n    \"final_tets\": " << r.final_tets << ",\n    \"improved\": " << (r.improved ? "true" : "false")
+    << ",\n    \"improvement_boundary_fixed\": " << (r.improvement_boundary_fixed ? "true" : "false") << ",\n    \"improvement\": {\"worst_before\": "
     << num(r.improvement.worst_before) << ", \"worst_after\": " << num(r.improvement.worst_after)
     << ", \"p01_before\": " << num(r.improvement.p01_before) << ", \"p01_after\": " << num(r.improvement.p01_after)
     << ", \"flips_2_3\": " << r.improvement.flips_2_3 << ", \"flips_3_2\": " << r.improvement.flips_3_2
     << ", \"flips_4_4\": " << r.improvement.flips_4_4 << ", \"edge_removals\": " << r.improvement.edge_removals
     << ", \"smoothing_moves\": " << r.improvement.smoothing_moves << ", \"edge_splits\": " << r.improvement.edge_splits
     << ", \"boundary_edge_splits\": " << r.improvement.boundary_edge_splits
-    << ", \"feature_edge_splits\": " << r.improvement.feature_edge_splits << ", \"seconds\": " << num(r.improvement.seconds)
+    << ", \"feature_edge_splits\": " << r.improvement.feature_edge_splits
+    << ", \"edge_collapses\": " << r.improvement.edge_collapses
+    << ", \"boundary_edge_collapses\": " << r.improvement.boundary_edge_collapses << ", \"seconds\": " << num(r.improvement.seconds)
     << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"surface_distance\": "
     << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
@@ -218,7 +225,13 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
                                   std::to_string(i.boundary_edge_splits) + " on the boundary (" +
                                   std::to_string(i.feature_edge_splits) + " on feature curves)"
                             : std::string())
+      << (i.edge_collapses > 0 ? ", edge collapses " + std::to_string(i.edge_collapses) + " of which " +
+                                     std::to_string(i.boundary_edge_collapses) + " on the boundary"
+                               : std::string())
       << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
+    if(r.improvement_boundary_fixed)
+      o << "improve:  its first run made the boundary intersect itself at a thin part: redone with the boundary "
+           "fixed\n";
   }
   o.precision(3);
   o << "surface:  boundary within " << r.surface_distance;
@@ -404,6 +417,37 @@ struct Domain_mesh {
   Indexed_tet_mesh_3 mesh;
   std::vector<C3t3_vertex_location> locations;
 };
+
+/// The C3T3 locations after the improvement: a kept vertex keeps its own
+/// (`new_vertex_index`: empty if none was removed), a split vertex gets its
+/// curve if on a feature edge, its patch if in a boundary triangle, else
+/// its subdomain (`point_refs`: the index).
+inline void relocate_after_improvement(const Indexed_tet_mesh_3& m, const std::vector<int>& new_vertex_index,
+                                       std::vector<C3t3_vertex_location>& locations)
+{
+  std::vector<C3t3_vertex_location> moved(m.points.size(), C3t3_vertex_location{3, 0});
+  std::vector<char> known(m.points.size(), 0);
+  for(std::size_t v = 0; v < locations.size(); ++v) {
+    const int w = new_vertex_index.empty() ? int(v) : new_vertex_index[v];
+    if(w >= 0) {
+      moved[std::size_t(w)] = locations[v];
+      known[std::size_t(w)] = 1;
+    }
+  }
+  if(std::find(known.begin(), known.end(), char(0)) != known.end()) {
+    std::vector<int> dimension(m.points.size(), 3);
+    for(const auto& f : m.triangles)
+      for(int v : f)
+        dimension[std::size_t(v)] = 2;
+    for(const auto& e : m.edges)
+      for(int v : e)
+        dimension[std::size_t(v)] = 1;
+    for(std::size_t v = 0; v < m.points.size(); ++v)
+      if(!known[v])
+        moved[v] = C3t3_vertex_location{dimension[v], m.point_refs[v]};
+  }
+  locations = std::move(moved);
+}
 
 /// The domain's curve id of each feature chain of the input surface: the
 /// curve of a packed curve node on a front feature edge over that chain, or,
@@ -868,23 +912,28 @@ Domain_mesh mesh_checked_domain(const MeshDomain& domain, const MetricField& fie
     io.curve_projection = [&projections](int ref, const std::array<double, 3>& p, std::array<double, 3>& q) {
       return projections.curve(ref, p, q);
     };
-    // where flips and moves are stuck, split edges (new vertices, located below)
+    // where flips and moves are stuck, collapse short edges and split others
+    // (vertices removed and added: the locations follow below)
     io.edge_splits = true;
+    io.edge_collapses = true;
+    // Boundary moves, curved flips, splits and collapses each keep the
+    // triangles near the surface, but at a thin part (a tip thinner than the
+    // sizes) they can push a triangle through the opposite side: then the
+    // improvement is done again on the front's mesh with the boundary fixed.
+    Indexed_tet_mesh_3 front_mesh = m;
     rep.improvement = improve_mesh(m, field, io);
-    rep.improved = true;
-    if(m.points.size() > out.locations.size()) {
-      // the split vertices: on their curve if on a feature edge, on their
-      // patch if in a boundary triangle, else inside (point_refs: the index)
-      std::vector<int> dimension(m.points.size(), 3);
-      for(const auto& f : m.triangles)
-        for(int v : f)
-          dimension[std::size_t(v)] = 2;
-      for(const auto& e : m.edges)
-        for(int v : e)
-          dimension[std::size_t(v)] = 1;
-      for(std::size_t v = out.locations.size(); v < m.points.size(); ++v)
-        out.locations.push_back(C3t3_vertex_location{dimension[v], m.point_refs[v]});
+    if(boundary_self_intersections(m) > 0) {
+      say("improvement: the boundary it changed intersects itself at a thin part; improving again with the "
+          "boundary fixed");
+      m = std::move(front_mesh);
+      io.boundary_smoothing = false; // no projections either: only interior moves, flips and splits
+      if(s.time_limit < std::numeric_limits<double>::infinity())
+        io.time_limit_seconds = std::max(0.0, std::min(io.time_limit_seconds, stop.remaining()));
+      rep.improvement = improve_mesh(m, field, io);
+      rep.improvement_boundary_fixed = true;
     }
+    rep.improved = true;
+    relocate_after_improvement(m, rep.improvement.new_vertex_index, out.locations);
     say("improvement: worst metric min dihedral " + std::to_string(rep.improvement.worst_before) + " -> " +
         std::to_string(rep.improvement.worst_after) + " deg, " + std::to_string(rep.improvement.seconds) + " s");
   }

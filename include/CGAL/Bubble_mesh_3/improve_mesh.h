@@ -172,7 +172,8 @@
 /// triangles of curved patches are never flipped, so a bad tet whose
 /// vertices are all on curved features may stay. Vertex insertion only by
 /// the optional edge splits (`Improvement_options::edge_splits`, off by
-/// default: then the number of vertices is fixed); no edge contraction, no
+/// default: then the number of vertices is fixed), removal only by the
+/// optional edge collapses (`Improvement_options::edge_collapses`); no
 /// multi-face removal.
 /// Smoothing maximises the worst tet of a ball, which can lower its other
 /// tets (the mean quality may drop when smoothing alone is used).
@@ -231,6 +232,16 @@ struct Improvement_options {
   /// the new vertices.
   bool edge_splits = false;
   double split_below_angle = 15;
+  /// in the same rounds, before the splits: collapse a short edge of each
+  /// tet still below `split_below_angle` (the shortest in the metric first,
+  /// each direction), removing a free vertex or a vertex inside one patch
+  /// (the edge then a boundary edge of that patch) onto its neighbour, when
+  /// the link condition holds (the mesh and its boundary stay manifold),
+  /// every new tet is positive, no boundary triangle turns by more than 20
+  /// degrees, and the worst tet of the removed vertex's star rises by a
+  /// degree. Removes vertices and listed triangles, renumbering the rest
+  /// (`Improvement_report::new_vertex_index`). Off by default, like the splits.
+  bool edge_collapses = false;
   /// seed of those random trial moves (the result is a function of it)
   unsigned random_seed = 0;
   /// tets of ref 0 are padding outside the domain (as the cells outside the
@@ -301,6 +312,14 @@ struct Improvement_report {
   std::size_t boundary_edge_splits = 0;
   /// those of feature edges (counted in `boundary_edge_splits` too)
   std::size_t feature_edge_splits = 0;
+  /// edge collapses (`Improvement_options::edge_collapses`: one vertex
+  /// removed each), and those of boundary edges (two listed triangles go)
+  std::size_t edge_collapses = 0;
+  std::size_t boundary_edge_collapses = 0;
+  /// if a collapse removed vertices: the index in the improved mesh of each
+  /// vertex of the input mesh followed by the split ones (-1: removed); empty
+  /// if no vertex was removed (indices unchanged, split vertices appended)
+  std::vector<int> new_vertex_index;
   /// slivers (metric edges within a factor 2, smallest dihedral angle below
   /// 20 degrees, largest above 140)
   std::size_t slivers_before = 0;
@@ -360,6 +379,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   settings.random_seed = options.random_seed;
   settings.edge_splits = options.edge_splits;
   settings.split_below_angle = options.split_below_angle;
+  settings.edge_collapses = options.edge_collapses;
   settings.should_stop = options.should_stop;
 
   internal::improve::Mesh_improver<MetricField_3> improver(work, field, settings);
@@ -372,7 +392,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   report.tets_after = improver.number_of_active_tets();
   internal::improvement_statistics(improver.qualities(), options.target_angle, report.worst_after,
                                    report.p01_after, report.mean_after, report.below_target_after);
-  work.write_back(mesh);
+  report.new_vertex_index = work.write_back(mesh);
 
   const internal::improve::Improver_counters& c = improver.counters();
   report.flips_2_3 = c.flips_2_3;
@@ -386,6 +406,8 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   report.edge_splits = c.edge_splits;
   report.boundary_edge_splits = c.boundary_edge_splits;
   report.feature_edge_splits = c.feature_edge_splits;
+  report.edge_collapses = c.edge_collapses;
+  report.boundary_edge_collapses = c.boundary_edge_collapses;
   report.passes = c.passes;
   report.time_limit_reached = c.time_limit_reached;
   report.seconds = improver.elapsed_seconds();

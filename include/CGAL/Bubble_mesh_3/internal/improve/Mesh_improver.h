@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <queue>
 #include <random>
@@ -66,6 +67,9 @@ struct Improver_settings {
   /// `split_below_angle` (see `Mesh_improver::split_phase()`); adds vertices
   bool edge_splits = false;
   double split_below_angle = 15;
+  /// before the splits: collapse a short edge of each tet still below
+  /// `split_below_angle` (see `Mesh_improver::collapse_phase()`); removes vertices
+  bool edge_collapses = false;
   unsigned random_seed = 0;
   /// polled with the clock; true stops the work like the time limit
   std::function<bool()> should_stop;
@@ -89,6 +93,9 @@ struct Improver_counters {
   std::size_t boundary_edge_splits = 0;
   /// those of feature edges (counted in both above too)
   std::size_t feature_edge_splits = 0;
+  /// edge collapses (each removes a vertex), and those of boundary edges
+  std::size_t edge_collapses = 0;
+  std::size_t boundary_edge_collapses = 0;
   int passes = 0;
   bool time_limit_reached = false;
 };
@@ -273,7 +280,7 @@ public:
   /// below `split_below_angle`, each followed by passes again.
   void run()
   {
-    const int split_rounds = s_.edge_splits ? 3 : 0;
+    const int split_rounds = s_.edge_splits || s_.edge_collapses ? 3 : 0;
     for(int round = 0;; ++round) {
       for(int pass = 0; pass < s_.maximum_passes; ++pass) {
         if(!has_bad_tet())
@@ -287,7 +294,12 @@ public:
         if(c_.time_limit_reached || changes == 0)
           break;
       }
-      if(round >= split_rounds || c_.time_limit_reached || split_phase() == 0)
+      if(round >= split_rounds || c_.time_limit_reached)
+        break;
+      std::size_t changes = s_.edge_collapses ? collapse_phase() : 0;
+      if(s_.edge_splits && !c_.time_limit_reached)
+        changes += split_phase();
+      if(changes == 0)
         break;
       target_ = std::min(s_.target_angle, s_.split_below_angle);
     }
@@ -1019,6 +1031,237 @@ private:
         break;
     }
     return splits;
+  }
+
+  /// Where a bad tet is bad because of a short edge (a vertex too close to
+  /// another: a cluster left by packing, a surface vertex next to a curve),
+  /// splitting cannot help: for each tet below `split_below_angle`, worst
+  /// first, its edges are tried shortest (in the metric) first, each in both
+  /// directions, and the first collapse that raises the worst tet of the
+  /// removed vertex's star by a degree is applied. Returns the number of
+  /// collapses (each removes a vertex).
+  std::size_t collapse_phase()
+  {
+    std::vector<std::pair<double, int>> bad;
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && !m_.is_passive(int(t)) && q_[t] < s_.split_below_angle)
+        bad.push_back({q_[t], int(t)});
+    std::sort(bad.begin(), bad.end());
+    const std::size_t budget = std::max<std::size_t>(16, m_.points.size() / 100);
+    std::size_t collapses = 0;
+    for(const auto& entry : bad) {
+      if(collapses >= budget)
+        break;
+      const int t = entry.second;
+      if(!m_.alive[std::size_t(t)] || q_[std::size_t(t)] != entry.first)
+        continue; // changed by an earlier collapse
+      const Tet T = m_.tets[std::size_t(t)];
+      static constexpr int edges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+      std::vector<std::pair<double, int>> order;
+      for(int e = 0; e < 6; ++e) {
+        const Eigen::Vector3d& a = P(T[std::size_t(edges[e][0])]);
+        const Eigen::Vector3d& b = P(T[std::size_t(edges[e][1])]);
+        order.push_back({quality_.metric_at(0.5 * (a + b)).length(b - a), e});
+      }
+      std::sort(order.begin(), order.end());
+      for(const auto& o : order) {
+        const int a = T[std::size_t(edges[o.second][0])], b = T[std::size_t(edges[o.second][1])];
+        if(collapse_edge(a, b) || collapse_edge(b, a)) {
+          ++collapses;
+          break;
+        }
+      }
+      if(out_of_time())
+        break;
+    }
+    return collapses;
+  }
+
+  /// Collapses the edge (v, w) by removing `v`: its tets through w go, the
+  /// others get w for v. Only for `v` free or inside one patch (plane or
+  /// surface constraint; then (v, w) is a boundary edge of that patch), its
+  /// star in one active subdomain; only if the link condition holds (the
+  /// result is a manifold mesh with the same boundary topology: the
+  /// boundary closed by a virtual vertex joined to each boundary face), every
+  /// new tet is positively oriented (exact), no boundary face turns by more
+  /// than 20 degrees, and the worst new tet is a degree above the worst of
+  /// v's star.
+  bool collapse_edge(int v, int w)
+  {
+    const Vertex_constraint::Kind kind = m_.constraint[std::size_t(v)].kind;
+    const bool boundary = m_.fixed[std::size_t(v)] != 0;
+    if(boundary && kind != Vertex_constraint::plane && kind != Vertex_constraint::surface)
+      return false;
+    if(boundary && (!s_.boundary_smoothing || !m_.is_protected_edge(v, w) || m_.has_duplicate_triangles))
+      return false;
+    const std::vector<int>& star = m_.vertex_tets[std::size_t(v)];
+    if(star.empty())
+      return false;
+    const int ref = m_.refs[std::size_t(star.front())];
+    double old_worst = std::numeric_limits<double>::infinity();
+    for(int s : star) {
+      if(m_.refs[std::size_t(s)] != ref || m_.is_passive(s))
+        return false;
+      old_worst = std::min(old_worst, q_[std::size_t(s)]);
+    }
+    // the boundary faces at v, each the face of one tet, all of one patch
+    std::vector<std::array<int, 3>> faces;
+    std::vector<Eigen::Vector3d> face_normals; // outward
+    int patch = 0;
+    for(int s : star) {
+      const Tet& T = m_.tets[std::size_t(s)];
+      for(int k = 0; k < 4; ++k) {
+        if(T[std::size_t(k)] == v)
+          continue;
+        std::array<int, 3> f;
+        int n = 0;
+        for(int j = 0; j < 4; ++j)
+          if(j != k)
+            f[std::size_t(n++)] = T[std::size_t(j)];
+        if(!m_.is_protected_face(f[0], f[1], f[2]))
+          continue;
+        if(m_.opposite_tet(s, f[0], f[1], f[2]) >= 0)
+          return false; // an interface
+        const int p = m_.face_patch(f[0], f[1], f[2]);
+        if(faces.empty())
+          patch = p;
+        else if(p != patch)
+          return false;
+        Eigen::Vector3d normal = (P(f[1]) - P(f[0])).cross(P(f[2]) - P(f[0]));
+        if(normal.dot(P(T[std::size_t(k)]) - P(f[0])) > 0)
+          normal = -normal;
+        faces.push_back(f);
+        face_normals.push_back(normal);
+      }
+    }
+    if(boundary == faces.empty())
+      return false; // a fixed vertex without faces, or a free one with faces: not ours
+    if(!link_condition(v, w))
+      return false;
+    // the new tets and their worst quality
+    std::vector<Tet> new_tets;
+    std::vector<int> old_tets;
+    double new_worst = std::numeric_limits<double>::infinity();
+    for(int s : star) {
+      old_tets.push_back(s);
+      Tet T = m_.tets[std::size_t(s)];
+      if(Mutable_tet_mesh::has_vertex(T, w))
+        continue;
+      for(int& x : T)
+        if(x == v)
+          x = w;
+      if(exact_orientation(P(T[0]), P(T[1]), P(T[2]), P(T[3])) != CGAL::POSITIVE)
+        return false;
+      new_worst = std::min(new_worst, quality_of(T));
+      if(!(new_worst > old_worst + 1.0))
+        return false;
+      new_tets.push_back(T);
+    }
+    const double cos_turn = cos_of_largest_boundary_turn();
+    for(std::size_t i = 0; i < faces.size(); ++i) {
+      const auto& f = faces[i];
+      if(f[0] == w || f[1] == w || f[2] == w)
+        continue;
+      Eigen::Vector3d x[3];
+      for(int k = 0; k < 3; ++k)
+        x[k] = f[std::size_t(k)] == v ? P(w) : P(f[std::size_t(k)]);
+      const Eigen::Vector3d normal = (x[1] - x[0]).cross(x[2] - x[0]);
+      const Eigen::Vector3d& o = face_normals[i];
+      // the same orientation (x replaces v in place) keeps the outward sense
+      if(!(normal.dot(o) > cos_turn * normal.norm() * o.norm()))
+        return false;
+    }
+
+    // apply
+    ++clock_;
+    for(int s : star)
+      for(int x : m_.tets[std::size_t(s)])
+        vertex_changed_[std::size_t(x)] = clock_;
+    const std::vector<int> created = m_.replace(old_tets, new_tets, ref);
+    if(boundary)
+      m_.collapse_boundary_faces(v, w, faces);
+    else
+      m_.removed[std::size_t(v)] = 1;
+    q_.resize(m_.tets.size());
+    tet_tried_.resize(m_.tets.size(), -1);
+    for(int s : created) {
+      tet_tried_[std::size_t(s)] = -1;
+      q_[std::size_t(s)] = tet_quality(s);
+    }
+    ++c_.edge_collapses;
+    if(boundary)
+      ++c_.boundary_edge_collapses;
+    return true;
+  }
+
+  /// The link condition for the collapse of (v, w), with the boundary
+  /// closed by a virtual vertex (-2) joined to every protected face: the
+  /// vertices and edges common to the links of v and w are those of the link
+  /// of the edge (v, w).
+  bool link_condition(int v, int w) const
+  {
+    const int virtual_vertex = -2;
+    typedef std::pair<int, int> Edge;
+    auto sorted = [](int x, int y) { return x < y ? Edge(x, y) : Edge(y, x); };
+    auto link = [&](int u, std::vector<int>& vertices, std::vector<Edge>& edges) {
+      for(int s : m_.vertex_tets[std::size_t(u)]) {
+        const Tet& T = m_.tets[std::size_t(s)];
+        int o[3];
+        int n = 0;
+        for(int x : T)
+          if(x != u)
+            o[n++] = x;
+        for(int k = 0; k < 3; ++k) {
+          vertices.push_back(o[k]);
+          const int x = o[k], y = o[(k + 1) % 3];
+          edges.push_back(sorted(x, y));
+          if(m_.is_protected_face(u, x, y)) {
+            vertices.push_back(virtual_vertex);
+            edges.push_back(sorted(x, virtual_vertex));
+            edges.push_back(sorted(y, virtual_vertex));
+          }
+        }
+      }
+      std::sort(vertices.begin(), vertices.end());
+      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+      std::sort(edges.begin(), edges.end());
+      edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    };
+    std::vector<int> vertices_v, vertices_w, vertices_vw;
+    std::vector<Edge> edges_v, edges_w, edges_vw;
+    link(v, vertices_v, edges_v);
+    link(w, vertices_w, edges_w);
+    // the link of (v, w): the far edge of each tet through it, and the
+    // virtual vertex for each boundary face through it
+    for(int s : m_.vertex_tets[std::size_t(v)]) {
+      const Tet& T = m_.tets[std::size_t(s)];
+      if(!Mutable_tet_mesh::has_vertex(T, w))
+        continue;
+      int o[2];
+      int n = 0;
+      for(int x : T)
+        if(x != v && x != w)
+          o[n++] = x;
+      vertices_vw.push_back(o[0]);
+      vertices_vw.push_back(o[1]);
+      edges_vw.push_back(sorted(o[0], o[1]));
+      for(int k = 0; k < 2; ++k)
+        if(m_.is_protected_face(v, w, o[k])) {
+          vertices_vw.push_back(virtual_vertex);
+          edges_vw.push_back(sorted(o[k], virtual_vertex));
+        }
+    }
+    std::sort(vertices_vw.begin(), vertices_vw.end());
+    vertices_vw.erase(std::unique(vertices_vw.begin(), vertices_vw.end()), vertices_vw.end());
+    std::sort(edges_vw.begin(), edges_vw.end());
+    edges_vw.erase(std::unique(edges_vw.begin(), edges_vw.end()), edges_vw.end());
+    std::vector<int> common_vertices;
+    std::set_intersection(vertices_v.begin(), vertices_v.end(), vertices_w.begin(), vertices_w.end(),
+                          std::back_inserter(common_vertices));
+    std::vector<Edge> common_edges;
+    std::set_intersection(edges_v.begin(), edges_v.end(), edges_w.begin(), edges_w.end(),
+                          std::back_inserter(common_edges));
+    return common_vertices == vertices_vw && common_edges == edges_vw;
   }
 
   /// Splits the edge (a, b) of tet `t` if a new vertex near its midpoint

@@ -171,6 +171,7 @@ public:
     alive.assign(tets.size(), 1);
     stamp.assign(tets.size(), 0);
     vertex_tets.assign(np, {});
+    removed.assign(np, 0);
     for(std::size_t t = 0; t < tets.size(); ++t)
       for(int v : tets[t]) {
         if(v < 0 || std::size_t(v) >= np)
@@ -342,39 +343,66 @@ public:
   }
 
   /// writes the tets (in slot order) and the points back; vertices added by
-  /// edge splits are appended with their refs (`added_point_refs`)
-  void write_back(Indexed_tet_mesh_3& mesh) const
+  /// edge splits are appended with their refs (`added_point_refs`); vertices
+  /// removed by edge collapses are dropped and every index renumbered.
+  /// Returns, if a vertex was removed, the new index of each old one (-1:
+  /// removed), else an empty vector.
+  std::vector<int> write_back(Indexed_tet_mesh_3& mesh) const
   {
     const std::size_t original = mesh.points.size();
     const bool had_point_refs = mesh.point_refs.size() == original && original > 0;
-    mesh.points.resize(points.size());
-    for(std::size_t i = 0; i < points.size(); ++i)
-      mesh.points[i] = {{points[i][0], points[i][1], points[i][2]}};
-    if(had_point_refs)
+    std::vector<int> point_refs;
+    if(had_point_refs) {
+      point_refs = mesh.point_refs;
       for(std::size_t i = original; i < points.size(); ++i)
-        mesh.point_refs.push_back(added_point_refs[i - original]);
+        point_refs.push_back(added_point_refs[i - original]);
+    }
+    std::vector<int> new_index;
+    if(std::find(removed.begin(), removed.end(), char(1)) != removed.end()) {
+      new_index.assign(points.size(), -1);
+      int next = 0;
+      for(std::size_t i = 0; i < points.size(); ++i)
+        if(!removed[i])
+          new_index[i] = next++;
+    }
+    auto index = [&new_index](int v) { return new_index.empty() ? v : new_index[std::size_t(v)]; };
+    mesh.points.clear();
+    mesh.point_refs.clear();
+    for(std::size_t i = 0; i < points.size(); ++i)
+      if(!removed[i]) {
+        mesh.points.push_back({{points[i][0], points[i][1], points[i][2]}});
+        if(had_point_refs)
+          mesh.point_refs.push_back(point_refs[i]);
+      }
     const bool had_refs = !mesh.tet_refs.empty() || mesh.tets.empty();
     mesh.tets.clear();
     mesh.tet_refs.clear();
     for(std::size_t t = 0; t < tets.size(); ++t)
       if(alive[t]) {
-        mesh.tets.push_back(tets[t]);
+        const Tet& T = tets[t];
+        mesh.tets.push_back({{index(T[0]), index(T[1]), index(T[2]), index(T[3])}});
         mesh.tet_refs.push_back(refs[t]);
       }
     if(!had_refs)
       mesh.tet_refs.clear();
-    if(feature_edges_split) {
+    if(feature_edges_split || !new_index.empty()) {
       const bool had_edge_refs = mesh.edge_refs.size() == mesh.edges.size() && !mesh.edges.empty();
-      mesh.edges = feature_edge_list;
+      mesh.edges.clear();
+      for(const auto& e : feature_edge_list)
+        mesh.edges.push_back({{index(e[0]), index(e[1])}});
       if(had_edge_refs)
         mesh.edge_refs = feature_edge_list_refs;
     }
-    if(listed != mesh.triangles) { // boundary flips replaced some
-      mesh.triangles = listed;
-      mesh.triangle_refs.resize(listed.size());
-      for(std::size_t i = 0; i < listed.size(); ++i)
-        mesh.triangle_refs[i] = listed_refs[i];
+    if(listed != mesh.triangles || !new_index.empty()) { // boundary flips, splits or collapses changed some
+      mesh.triangles.clear();
+      for(const auto& f : listed)
+        mesh.triangles.push_back({{index(f[0]), index(f[1]), index(f[2])}});
+      mesh.triangle_refs = listed_refs;
     }
+    if(!new_index.empty())
+      for(int& c : mesh.corners)
+        c = index(c); // corners are never removed
+    return new_index;
   }
 
   bool is_feature_edge(int a, int b) const { return feature_edges.count(edge_key(a, b)) != 0; }
@@ -430,6 +458,7 @@ public:
     points.push_back(x);
     vertex_tets.emplace_back();
     fixed.push_back(is_fixed ? 1 : 0);
+    removed.push_back(0);
     constraint.push_back(c);
     added_point_refs.push_back(point_ref);
     return int(points.size()) - 1;
@@ -467,6 +496,54 @@ public:
     protected_edges.erase(edge_key(a, b));
     protected_edges.insert(edge_key(a, m));
     protected_edges.insert(edge_key(m, b));
+  }
+
+  /// Before the edge collapse of `v` onto `w` (`v` inside one patch or free,
+  /// its star of one subdomain): the boundary faces at `v` given as
+  /// `faces` (each (v, x, y)) either contain `w` and go, or become
+  /// (w, x, y) in their listed slot, same orientation and ref; the protected
+  /// faces and edges follow. `v` is marked removed.
+  void collapse_boundary_faces(int v, int w, const std::vector<std::array<int, 3>>& faces)
+  {
+    for(const auto& f : faces) {
+      const Face_key old_key(f[0], f[1], f[2]);
+      protected_faces.erase(old_key);
+      for(int x : f)
+        if(x != v)
+          protected_edges.erase(edge_key(v, x));
+      const auto it = listed_index.find(old_key);
+      const bool has_w = f[0] == w || f[1] == w || f[2] == w;
+      if(it != listed_index.end()) {
+        const std::size_t slot = it->second;
+        listed_index.erase(it);
+        if(has_w) { // the last listed triangle takes its slot
+          const std::size_t last = listed.size() - 1;
+          if(slot != last) {
+            listed[slot] = listed[last];
+            listed_refs[slot] = listed_refs[last];
+            listed_index[Face_key(listed[slot][0], listed[slot][1], listed[slot][2])] = slot;
+          }
+          listed.pop_back();
+          listed_refs.pop_back();
+        } else {
+          for(int& x : listed[slot])
+            if(x == v)
+              x = w;
+          listed_index.emplace(Face_key(listed[slot][0], listed[slot][1], listed[slot][2]), slot);
+        }
+      }
+      if(!has_w) {
+        std::array<int, 3> g = f;
+        for(int& x : g)
+          if(x == v)
+            x = w;
+        protected_faces.insert(Face_key(g[0], g[1], g[2]));
+        protected_edges.insert(edge_key(g[0], g[1]));
+        protected_edges.insert(edge_key(g[1], g[2]));
+        protected_edges.insert(edge_key(g[2], g[0]));
+      }
+    }
+    removed[std::size_t(v)] = 1;
   }
 
   /// the curve (edge ref) of a feature edge, or -1
@@ -728,6 +805,8 @@ public:
   std::unordered_set<Face_key, Face_key_hash> protected_faces;
   std::unordered_set<std::uint64_t, Edge_key_hash> protected_edges;
   std::vector<char> fixed;
+  /// vertices removed by edge collapses (no tets; dropped by `write_back()`)
+  std::vector<char> removed;
   /// feature edges (also in `protected_edges`)
   std::unordered_set<std::uint64_t, Edge_key_hash> feature_edges;
   /// the listed triangles and their refs (boundary flips replace some), and
