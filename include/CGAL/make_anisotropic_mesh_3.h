@@ -945,6 +945,7 @@ Domain_mesh mesh_checked_domain(const MeshDomain& domain, const MetricField& fie
   t0 = std::chrono::steady_clock::now();
   Validity_options vo;
   vo.require_outward_triangles = true;
+  vo.check_boundary_self_intersections = false; // checked after the improvement (above), or the front's
   const Validity_report vr = check_validity(m, vo);
   rep.validity_seconds = seconds_since(t0);
   if(!vr.is_valid()) {

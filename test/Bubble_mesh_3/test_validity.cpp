@@ -596,6 +596,37 @@ TEST(Validity, NonManifoldBoundaryVertex)
   EXPECT_EQ(r.number_of_boundary_components, 1u); // joined through the vertex
 }
 
+// Two unit cubes of one subdomain overlapping by half: every face count,
+// orientation and the volume identity are fine (each cube is closed); only
+// the embedding check sees that the boundary intersects itself.
+TEST(Validity, OverlappingCubesOfOneSubdomainIntersectThemselves)
+{
+  Indexed_tet_mesh_3 m = unit_cube_points();
+  for(int i = 0; i < 8; ++i)
+    add_point(m, 0.5 + (i & 1), 0.25 + ((i >> 1) & 1), 0.25 + ((i >> 2) & 1));
+  add_kuhn_cube(m, {0, 1, 2, 3, 4, 5, 6, 7});
+  add_kuhn_cube(m, {8, 9, 10, 11, 12, 13, 14, 15});
+  set_reference_triangles(m);
+  const BM::Validity_report r = BM::check_validity(m);
+  EXPECT_FALSE(r.is_valid());
+  EXPECT_TRUE(r.volume_identity_holds);
+  EXPECT_EQ(r.faces_with_tets_on_same_side + r.faces_shared_by_more_than_two_tets + r.negative_tets, 0u);
+  EXPECT_TRUE(r.self_intersections_checked);
+  EXPECT_GT(r.boundary_self_intersections, 0u);
+  EXPECT_NE(BM::to_json(r).find("\"boundary_self_intersections\": " + std::to_string(r.boundary_self_intersections)),
+            std::string::npos);
+  BM::Validity_options without;
+  without.check_boundary_self_intersections = false;
+  EXPECT_TRUE(BM::check_validity(m, without).is_valid());
+  // apart, they are two valid spheres of one subdomain
+  for(std::size_t i = 8; i < 16; ++i)
+    m.points[i][0] += 2;
+  const BM::Validity_report apart = BM::check_validity(m);
+  EXPECT_TRUE(apart.is_valid()) << dump(apart);
+  EXPECT_TRUE(apart.self_intersections_checked);
+  EXPECT_EQ(apart.boundary_self_intersections, 0u);
+}
+
 TEST(Validity, DisjointCubesAreTwoSpheres)
 {
   Indexed_tet_mesh_3 m = unit_cube_points();

@@ -26,6 +26,8 @@
 #include <utility>
 #include <vector>
 
+#include <CGAL/Bubble_mesh_3/internal/boundary_self_intersections.h>
+
 // The mesh validity checker of the package.
 //
 // CGAL's `c3t3.is_valid()` checks neither orientation, nor conformity, nor
@@ -56,9 +58,10 @@
 //   the same side), and the optional comparison with the expected volume
 //   (the volume of the input surface) catches a boundary that covers the
 //   region twice (w_B = 2), e.g. a doubled layer with duplicated vertices.
-//   What is *not* checked here is that the surface itself does not
-//   self-intersect (that is the input surface's property; use
-//   CGAL::Polygon_mesh_processing::does_self_intersect() on it if needed).
+//   That B is embedded is the last check (`check_boundary_self_intersections`,
+//   on by default): PMP::self_intersections on each subdomain's boundary. It
+//   is not implied by the input: a mesh whose boundary vertices moved can
+//   fold a thin part over itself while every check above passes.
 //
 // Exactness: orientations use Epick's exact CGAL::orientation. Volume sums
 // are Neumaier-compensated double sums of per-element determinants, compared
@@ -102,6 +105,11 @@ struct Validity_options {
   /// compute the connected components of the boundary surface and their
   /// Euler characteristics (information only)
   bool compute_boundary_topology = true;
+  /// check that the boundary of each subdomain does not intersect itself
+  /// (`CGAL::Polygon_mesh_processing::self_intersections()`; only when the
+  /// other checks passed). Without it, tets may overlap where the boundary
+  /// folds over itself (see the header comment)
+  bool check_boundary_self_intersections = true;
   /// number of problem messages kept in `Validity_report::problems`
   std::size_t max_listed_problems = 20;
 };
@@ -163,11 +171,14 @@ struct Validity_report {
   double expected_volume = 0;
   bool expected_volume_matches = true;
 
-  // 6. vertices and boundary topology
+  // 6. vertices and boundary topology, embedding
   std::size_t unused_vertices = 0;      ///< vertices of no tet
   bool unused_vertices_allowed = false;
   std::size_t number_of_boundary_components = 0;
   std::vector<Boundary_component> boundary_components; ///< the first `max_listed_problems`
+  bool self_intersections_checked = false;
+  /// pairs of intersecting triangles on the boundary of a subdomain (error)
+  std::size_t boundary_self_intersections = 0;
 
   // messages
   std::vector<std::string> problems;    ///< the first `max_listed_problems` messages
@@ -182,7 +193,8 @@ struct Validity_report {
            missing_boundary_triangles == 0 && extra_triangles == 0 &&
            (duplicate_triangles_allowed || duplicate_triangles == 0) &&
            (!require_outward_triangles || misoriented_boundary_triangles == 0) && volume_identity_holds &&
-           expected_volume_matches && (unused_vertices_allowed || unused_vertices == 0);
+           expected_volume_matches && (unused_vertices_allowed || unused_vertices == 0) &&
+           boundary_self_intersections == 0;
   }
 };
 
@@ -790,6 +802,16 @@ inline Validity_report check_validity(const Indexed_tet_mesh_3& mesh, const Vali
     if(!options.allow_unused_vertices)
       log.add_lazy([&] { return "vertex " + std::to_string(v) + " is used by no tet"; });
   }
+
+  // ---- 7. embedding: no subdomain boundary intersects itself -----------
+  if(options.check_boundary_self_intersections && r.is_valid()) {
+    std::size_t unchecked = 0;
+    r.boundary_self_intersections = internal::boundary_self_intersections(mesh, &unchecked);
+    r.self_intersections_checked = unchecked == 0;
+    if(r.boundary_self_intersections > 0)
+      log.add("the boundary intersects itself (" + std::to_string(r.boundary_self_intersections) +
+              " pairs of triangles): tets overlap there");
+  }
   return r;
 }
 
@@ -832,6 +854,8 @@ inline void print_validity_summary(std::ostream& out, const Validity_report& r)
   }
   out << "  vertices:    " << r.unused_vertices << " unused" << (r.unused_vertices_allowed ? " (allowed)" : "")
       << "\n";
+  if(r.self_intersections_checked || r.boundary_self_intersections > 0)
+    out << "  embedding:   " << r.boundary_self_intersections << " pairs of intersecting boundary triangles\n";
   for(const std::string& p : r.problems)
     out << "  problem: " << p << "\n";
   if(r.problems.size() < r.number_of_problems)
@@ -869,6 +893,8 @@ inline std::string to_json(const Validity_report& r)
   if(r.expected_volume_checked)
     os << ", \"expected_volume\": " << format_json_number(r.expected_volume)
        << ", \"expected_volume_matches\": " << b(r.expected_volume_matches);
+  os << ", \"boundary_self_intersections\": " << r.boundary_self_intersections
+     << ", \"self_intersections_checked\": " << b(r.self_intersections_checked);
   os << ", \"unused_vertices\": " << r.unused_vertices
      << ", \"boundary_components\": " << r.number_of_boundary_components << ", \"boundary_euler_characteristics\": [";
   for(std::size_t i = 0; i < r.boundary_components.size(); ++i)

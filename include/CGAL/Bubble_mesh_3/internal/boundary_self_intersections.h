@@ -31,11 +31,15 @@ namespace internal {
 
 /// The number of pairs of intersecting triangles on the boundaries of the
 /// subdomains of `mesh` (each subdomain's boundary on its own; triangles of
-/// two subdomains are not compared). A subdomain boundary that is not a
-/// 2-manifold as a Surface_mesh (a pinched edge) counts as one pair: it
-/// cannot be checked and is not a boundary the mesher makes.
-inline std::size_t boundary_self_intersections(const Indexed_tet_mesh_3& mesh)
+/// two subdomains are not compared). A subdomain boundary that cannot be
+/// built as a Surface_mesh (a pinched edge, inconsistent orientations: what
+/// the validity check reports on its own) is not checked and is counted in
+/// `unchecked_subdomains` if given.
+inline std::size_t boundary_self_intersections(const Indexed_tet_mesh_3& mesh,
+                                               std::size_t* unchecked_subdomains = nullptr)
 {
+  if(unchecked_subdomains)
+    *unchecked_subdomains = 0;
   typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
   typedef CGAL::Surface_mesh<K::Point_3> Surface;
   // the faces of each subdomain's tets, all oriented alike (inward for a
@@ -81,7 +85,8 @@ inline std::size_t boundary_self_intersections(const Indexed_tet_mesh_3& mesh)
       }
     }
     if(!manifold) {
-      ++pairs;
+      if(unchecked_subdomains)
+        ++*unchecked_subdomains;
       continue;
     }
     std::vector<std::pair<Surface::Face_index, Surface::Face_index>> found;
