@@ -1602,3 +1602,35 @@ TEST(ImproveMesh, EdgeCollapsesRemoveClusteredVertices)
               r0.worst_before, r0.worst_after, r.worst_after, r.edge_collapses, r.boundary_edge_collapses, resolved,
               twins.size());
 }
+
+// The predicate behind the improver's embedding check: two boundary
+// triangles may share vertices and edges, nothing else.
+TEST(ImproveMesh, TrianglesMeetOnlyInSharedVerticesAndEdges)
+{
+  using BM::internal::improve::triangles_meet_improperly;
+  typedef std::array<V3, 3> T3;
+  typedef std::array<int, 3> I3;
+  const T3 base{{V3(0, 0, 0), V3(1, 0, 0), V3(0, 1, 0)}};
+  const I3 ib{{0, 1, 2}};
+  // apart, and crossing (no shared vertex)
+  EXPECT_FALSE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 1), V3(1, 0, 1), V3(0, 1, 1)}}, I3{{3, 4, 5}}));
+  EXPECT_TRUE(triangles_meet_improperly(base, ib, T3{{V3(0.2, 0.2, -1), V3(0.3, 0.2, 1), V3(0.2, 0.3, 1)}},
+                                        I3{{3, 4, 5}}));
+  // a new vertex (-1) shares nothing, even at the same place as a vertex
+  EXPECT_TRUE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(0.5, 0.5, 1), V3(0.5, 0.5, -1)}},
+                                        I3{{-1, 4, 5}}));
+  // sharing the edge 0-1: folded up (fine), folded flat onto it (overlap),
+  // flat on the other side (fine)
+  EXPECT_FALSE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(1, 0, 0), V3(0.5, -0.5, 0.5)}}, I3{{0, 1, 3}}));
+  EXPECT_TRUE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(1, 0, 0), V3(0.5, 0.5, 0)}}, I3{{0, 1, 3}}));
+  EXPECT_FALSE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(1, 0, 0), V3(0.5, -0.5, 0)}}, I3{{0, 1, 3}}));
+  // sharing vertex 0: apart, an edge through the other, coplanar overlap in a
+  // wedge, coplanar side by side
+  EXPECT_FALSE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(-1, 0, 1), V3(0, -1, 1)}}, I3{{0, 3, 4}}));
+  EXPECT_TRUE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(0.3, 0.3, -1), V3(0.3, 0.3, 1)}},
+                                        I3{{0, 3, 4}}));
+  EXPECT_TRUE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(0.2, 0.1, 0), V3(0.1, 0.2, 0)}}, I3{{0, 3, 4}}));
+  EXPECT_FALSE(triangles_meet_improperly(base, ib, T3{{V3(0, 0, 0), V3(-1, 0, 0), V3(0, -1, 0)}}, I3{{0, 3, 4}}));
+  // the same face
+  EXPECT_TRUE(triangles_meet_improperly(base, ib, base, I3{{2, 0, 1}}));
+}

@@ -223,7 +223,10 @@ void print(const char* name, const Outcome& o, const BM::Quality_report& q)
             << ", dropped " << r.dropped_outside << "+" << r.dropped_near_boundary << "), metric min dihedral worst " << q.min_dihedral.worst << " p01 " << q.min_dihedral.p01 << " mean "
             << q.min_dihedral.mean << ", edges in range " << q.edge_length.in_range_fraction << ", times pack "
             << r.packing_seconds[0] + r.packing_seconds[1] + r.packing_seconds[2] + r.packing_seconds[3]
-            << " s, boundary " << r.boundary_seconds << " s, front " << r.front_seconds << " s\n";
+            << " s, boundary " << r.boundary_seconds << " s, front " << r.front_seconds << " s, improvement "
+            << r.improvement.seconds << " s (splits " << r.improvement.edge_splits << ", collapses "
+            << r.improvement.edge_collapses << (r.improvement_boundary_fixed ? ", redone with the boundary fixed" : "")
+            << ")\n";
 }
 
 TEST(MakeMesh, CubeIdentity)
@@ -323,7 +326,9 @@ C3t3 mesh_c3t3(const std::string& off, double h, BM::Meshing_report& rep, bool h
   C3t3 c3t3 = CGAL::make_anisotropic_mesh_3<C3t3>(domain, field, BM::parameters::meshing_report(&rep));
   EXPECT_TRUE(c3t3.triangulation().is_valid());
   EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.final_tets);
-  EXPECT_EQ(c3t3.number_of_facets_in_complex(), rep.boundary_triangles);
+  // the front's triangles, two more per boundary split, two fewer per boundary collapse
+  EXPECT_EQ(c3t3.number_of_facets_in_complex(), rep.boundary_triangles + 2 * rep.improvement.boundary_edge_splits -
+                                                    2 * rep.improvement.boundary_edge_collapses);
   if(has_features) {
     EXPECT_GT(c3t3.number_of_edges_in_complex(), 0u);
   }
@@ -381,7 +386,7 @@ TEST(MakeMesh, CoarseSizesAndTipsGiveValidMeshes)
   const std::vector<Case> cases = {{"cylinder 1.2", cylinder_off(), 1.2}, {"cylinder 2.5", cylinder_off(), 2.5},
                                    {"cylinder 10", cylinder_off(), 10},   {"spindle 0.6", spindle, 0.6},
                                    {"spindle 1.5", spindle, 1.5},         {"torus 0.9", torus_off(), 0.9}};
-  std::size_t added = 0, fixed_boundary = 0;
+  std::size_t added = 0;
   const Case* most_changed = nullptr; // by the improvement's splits and collapses
   std::size_t most_changes = 0;
   for(const Case& c : cases) {
@@ -391,9 +396,12 @@ TEST(MakeMesh, CoarseSizesAndTipsGiveValidMeshes)
     EXPECT_TRUE(o.validity.is_valid());
     added += o.report.added_boundary_nodes;
     // never a boundary folded over itself (the spindle's tips at 1.5 were,
-    // after the improvement's boundary moves and splits: 67 pairs)
+    // after the improvement's boundary moves and splits: 67 pairs), and not
+    // by redoing the improvement with the boundary fixed: each boundary
+    // operation checks its new triangles against the others (the spindle:
+    // worst 4.5 degrees, 48 splits and 30 collapses)
     EXPECT_EQ(BM::internal::boundary_self_intersections(o.mesh), 0u);
-    fixed_boundary += o.report.improvement_boundary_fixed ? 1 : 0;
+    EXPECT_FALSE(o.report.improvement_boundary_fixed);
     const std::size_t changes = o.report.improvement.edge_splits + o.report.improvement.edge_collapses;
     if(changes > most_changes) {
       most_changes = changes;
@@ -418,7 +426,6 @@ TEST(MakeMesh, CoarseSizesAndTipsGiveValidMeshes)
     EXPECT_GT(q.min_dihedral.worst, 0.0);
   }
   EXPECT_GT(added, 0u) << "no case needed added nodes: the test does not exercise them";
-  EXPECT_GT(fixed_boundary, 0u) << "no case needed the improvement redone: the test does not exercise it";
 
   // the same through the C3T3 (padding, curve ids of the added curve nodes)
   BM::Meshing_report rep;

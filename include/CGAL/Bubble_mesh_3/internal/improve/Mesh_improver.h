@@ -7,6 +7,7 @@
 
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/Quality_report.h>
+#include <CGAL/Bubble_mesh_3/internal/improve/Boundary_grid.h>
 #include <CGAL/Bubble_mesh_3/internal/improve/Mutable_tet_mesh.h>
 #include <CGAL/Bubble_mesh_3/metric_quality.h>
 
@@ -19,6 +20,7 @@
 #include <cstddef>
 #include <functional>
 #include <iterator>
+#include <memory>
 #include <limits>
 #include <queue>
 #include <random>
@@ -228,6 +230,10 @@ public:
     tet_tried_.assign(m_.tets.size(), -1);
     vertex_tried_.assign(m_.points.size(), -1);
     vertex_changed_.assign(m_.points.size(), 0);
+    // Only the operations that leave a plane (with a projection on the
+    // input's curved patches and curves) can fold the boundary
+    if(s_.boundary_smoothing && (m_.surface_projection || m_.curve_projection))
+      build_boundary_grid();
   }
 
   /// the qualities of the current tets (slot order), computed exactly as
@@ -336,6 +342,8 @@ private:
     bool boundary = false;
     std::array<std::array<int, 3>, 2> old_faces{}, new_faces{};
     std::array<int, 4> edge_vertices{};
+    /// a boundary flip off a plane (its embedding is checked when chosen)
+    bool leaves_plane = false;
   };
 
   const Eigen::Vector3d& P(int v) const { return m_.points[std::size_t(v)]; }
@@ -356,6 +364,59 @@ private:
   {
     if(q_[std::size_t(t)] < target_)
       queue_.push({q_[std::size_t(t)], t, m_.stamp[std::size_t(t)]});
+  }
+
+  // ---- the boundary's embedding ---------------------------------------------
+
+  void build_boundary_grid()
+  {
+    double length = 0;
+    std::size_t count = 0;
+    for(const Face_key& f : m_.protected_faces)
+      for(int k = 0; k < 3; ++k) {
+        length += (P(f.v[std::size_t(k)]) - P(f.v[std::size_t((k + 1) % 3)])).norm();
+        ++count;
+      }
+    grid_ = std::make_unique<Boundary_grid>(count > 0 ? 2 * length / double(count) : 1.0);
+    for(const Face_key& f : m_.protected_faces)
+      index_face(f.v[0], f.v[1], f.v[2]);
+  }
+
+  void index_face(int a, int b, int c)
+  {
+    if(grid_)
+      grid_->insert(Face_key(a, b, c).v, {{P(a), P(b), P(c)}});
+  }
+
+  /// Whether the boundary stays embedded when the protected faces `old_faces`
+  /// are replaced by `new_faces` (vertex ids; -1 and `moved` stand for the
+  /// point `x`): no new face meets a protected face other than the old ones
+  /// and the new ones except in shared vertices and edges. True without a
+  /// grid (no operation that could fold the boundary).
+  bool boundary_stays_embedded(const std::vector<std::array<int, 3>>& new_faces,
+                               const std::vector<std::array<int, 3>>& old_faces, int moved, const Eigen::Vector3d& x) const
+  {
+    if(!grid_)
+      return true;
+    auto point = [&](int v) -> const Eigen::Vector3d& { return v < 0 || v == moved ? x : P(v); };
+    std::vector<Face_key> skip;
+    for(const auto& f : old_faces)
+      skip.push_back(Face_key(f[0], f[1], f[2]));
+    for(const auto& f : new_faces)
+      if(f[0] >= 0 && f[1] >= 0 && f[2] >= 0)
+        skip.push_back(Face_key(f[0], f[1], f[2]));
+    for(const auto& f : new_faces) {
+      const std::array<Eigen::Vector3d, 3> xf{{point(f[0]), point(f[1]), point(f[2])}};
+      const bool met = grid_->any_near(xf, [&](const Boundary_grid::Face& g) {
+        const Face_key key(g[0], g[1], g[2]);
+        if(!m_.protected_faces.count(key) || std::find(skip.begin(), skip.end(), key) != skip.end())
+          return false;
+        return triangles_meet_improperly(xf, f, {{point(g[0]), point(g[1]), point(g[2])}}, g);
+      });
+      if(met)
+        return false;
+    }
+    return true;
   }
 
   // ---- flips --------------------------------------------------------------
@@ -495,6 +556,7 @@ private:
       inside_a = inside_b = ring_[std::size_t(top)];
     if(!coplanar && !surface_change_is_small(a, b, p0, pk, ring_[1], ring_[std::size_t(n - 2)], inside_a, inside_b))
       return;
+
     // the old faces as stored (listed orientation), the new ones oriented
     // like them with respect to the inside
     auto stored = [&](int x, int y, int z) {
@@ -521,6 +583,7 @@ private:
     best.new_faces = {{oriented_like({{a, p0, pk}}, inside_a, old0, apex_old0),
                        oriented_like({{b, p0, pk}}, inside_b, old1, apex_old1)}};
     best.edge_vertices = {{a, b, p0, pk}};
+    best.leaves_plane = !coplanar;
   }
 
   /// the largest turn of a boundary triangle (20 degrees) by a surface
@@ -630,6 +693,8 @@ private:
       const auto& e = flip.edge_vertices;
       m_.replace_boundary_faces(flip.old_faces[0], flip.old_faces[1], flip.new_faces[0], flip.new_faces[1], e[0], e[1],
                                 e[2], e[3]);
+      for(const auto& f : flip.new_faces)
+        index_face(f[0], f[1], f[2]);
       ++c_.boundary_flips;
     }
     q_.resize(m_.tets.size());
@@ -945,6 +1010,16 @@ private:
 
     if(!(current > start + minimum_gain) || x == x_start)
       return false;
+    if(on_surface && grid_) {
+      std::vector<std::array<int, 3>> fan;
+      for(const auto& sf : surface_faces)
+        fan.push_back({{v, sf.first[0], sf.first[1]}});
+      if(!boundary_stays_embedded(fan, fan, v, x))
+        return false;
+      m_.points[std::size_t(v)] = x;
+      for(const auto& f : fan)
+        index_face(f[0], f[1], f[2]);
+    }
     m_.points[std::size_t(v)] = x;
     ++clock_;
     for(int s : ball)
@@ -1172,14 +1247,24 @@ private:
         return false;
     }
 
+    std::vector<std::array<int, 3>> renamed;
+    for(const auto& f : faces)
+      if(f[0] != w && f[1] != w && f[2] != w)
+        renamed.push_back({{f[0] == v ? w : f[0], f[1] == v ? w : f[1], f[2] == v ? w : f[2]}});
+    if(boundary && !boundary_stays_embedded(renamed, faces, -2, Eigen::Vector3d::Zero()))
+      return false;
+
     // apply
     ++clock_;
     for(int s : star)
       for(int x : m_.tets[std::size_t(s)])
         vertex_changed_[std::size_t(x)] = clock_;
     const std::vector<int> created = m_.replace(old_tets, new_tets, ref);
-    if(boundary)
+    if(boundary) {
       m_.collapse_boundary_faces(v, w, faces);
+      for(const auto& f : renamed)
+        index_face(f[0], f[1], f[2]);
+    }
     else
       m_.removed[std::size_t(v)] = 1;
     q_.resize(m_.tets.size());
@@ -1414,6 +1499,10 @@ private:
     }
     if(!(best > old_worst + 1.0))
       return false;
+    if(boundary && !boundary_stays_embedded({{{a, -1, ring.front()}}, {{-1, b, ring.front()}}, {{a, -1, ring.back()}},
+                                             {{-1, b, ring.back()}}},
+                                            {{{a, b, ring.front()}}, {{a, b, ring.back()}}}, -1, x))
+      return false;
 
     // apply
     Vertex_constraint constraint;
@@ -1445,8 +1534,13 @@ private:
         vertex_changed_[std::size_t(v)] = clock_;
     vertex_changed_[std::size_t(m)] = clock_;
     const std::vector<int> created = m_.replace(ring_tets, new_tets, ref);
-    if(boundary)
+    if(boundary) {
       m_.split_boundary_faces(a, b, m, ring.front(), ring.back());
+      for(int p : {ring.front(), ring.back()}) {
+        index_face(a, m, p);
+        index_face(m, b, p);
+      }
+    }
     if(feature)
       m_.split_feature_edge(a, b, m);
     q_.resize(m_.tets.size());
@@ -1571,6 +1665,12 @@ private:
       consider_face_flip(t, f, best);
     if(best.old_tets.empty()) // nothing proposed (a cap removal proposes no new tets)
       return false;
+    if(best.boundary && best.leaves_plane) {
+      const auto& e = best.edge_vertices;
+      if(!boundary_stays_embedded({{{e[0], e[2], e[3]}}, {{e[1], e[2], e[3]}}}, {{{e[0], e[1], e[2]}}, {{e[0], e[1], e[3]}}},
+                                  -2, Eigen::Vector3d::Zero()))
+        return false;
+    }
     apply(best);
     return true;
   }
@@ -1582,6 +1682,7 @@ private:
   /// edge splits, `split_below_angle` (the passes after a split round work
   /// on the tets that splits are for, not again on all below the target)
   double target_ = 0;
+  std::unique_ptr<Boundary_grid> grid_;
   std::chrono::steady_clock::time_point start_;
   std::vector<double> q_;
   Queue queue_;
