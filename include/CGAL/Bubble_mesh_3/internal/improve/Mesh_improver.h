@@ -1072,40 +1072,7 @@ private:
   /// Returns the number of splits.
   std::size_t split_phase()
   {
-    std::vector<std::pair<double, int>> bad;
-    for(std::size_t t = 0; t < m_.tets.size(); ++t)
-      if(m_.alive[t] && !m_.is_passive(int(t)) && q_[t] < s_.split_below_angle)
-        bad.push_back({q_[t], int(t)});
-    std::sort(bad.begin(), bad.end());
-    // at most 1 % of the vertices per round, worst tets first: where far more
-    // tets are stuck (features far closer than the sizes) splits would
-    // mostly add short edges
-    const std::size_t budget = std::max<std::size_t>(16, m_.points.size() / 100);
-    std::size_t splits = 0;
-    for(const auto& entry : bad) {
-      if(splits >= budget)
-        break;
-      const int t = entry.second;
-      if(!m_.alive[std::size_t(t)] || q_[std::size_t(t)] != entry.first)
-        continue; // changed by an earlier split
-      const Tet T = m_.tets[std::size_t(t)];
-      static constexpr int edges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-      std::vector<std::pair<double, int>> order;
-      for(int e = 0; e < 6; ++e) {
-        const Eigen::Vector3d& a = P(T[std::size_t(edges[e][0])]);
-        const Eigen::Vector3d& b = P(T[std::size_t(edges[e][1])]);
-        order.push_back({-quality_.metric_at(0.5 * (a + b)).length(b - a), e});
-      }
-      std::sort(order.begin(), order.end());
-      for(const auto& o : order)
-        if(split_edge(t, T[std::size_t(edges[o.second][0])], T[std::size_t(edges[o.second][1])])) {
-          ++splits;
-          break;
-        }
-      if(out_of_time())
-        break;
-    }
-    return splits;
+    return for_stuck_tets(true, [this](int t, int a, int b) { return split_edge(t, a, b); });
   }
 
   /// Where a bad tet is bad because of a short edge (a vertex too close to
@@ -1117,39 +1084,49 @@ private:
   /// collapses (each removes a vertex).
   std::size_t collapse_phase()
   {
+    return for_stuck_tets(false, [this](int, int a, int b) { return collapse_edge(a, b) || collapse_edge(b, a); });
+  }
+
+  /// The driver of both: the tets below `split_below_angle`, worst first,
+  /// each with its edges by metric length (longest first or shortest
+  /// first) until `change(t, a, b)` applies to one; at most 1 % of the
+  /// vertices (at least 16) changes per round: where far more tets are stuck
+  /// (features far closer than the sizes) they would mostly add short edges.
+  template <typename Change>
+  std::size_t for_stuck_tets(bool longest_first, const Change& change)
+  {
     std::vector<std::pair<double, int>> bad;
     for(std::size_t t = 0; t < m_.tets.size(); ++t)
       if(m_.alive[t] && !m_.is_passive(int(t)) && q_[t] < s_.split_below_angle)
         bad.push_back({q_[t], int(t)});
     std::sort(bad.begin(), bad.end());
     const std::size_t budget = std::max<std::size_t>(16, m_.points.size() / 100);
-    std::size_t collapses = 0;
+    std::size_t changes = 0;
     for(const auto& entry : bad) {
-      if(collapses >= budget)
+      if(changes >= budget)
         break;
       const int t = entry.second;
       if(!m_.alive[std::size_t(t)] || q_[std::size_t(t)] != entry.first)
-        continue; // changed by an earlier collapse
+        continue; // changed by an earlier one
       const Tet T = m_.tets[std::size_t(t)];
       static constexpr int edges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
       std::vector<std::pair<double, int>> order;
       for(int e = 0; e < 6; ++e) {
         const Eigen::Vector3d& a = P(T[std::size_t(edges[e][0])]);
         const Eigen::Vector3d& b = P(T[std::size_t(edges[e][1])]);
-        order.push_back({quality_.metric_at(0.5 * (a + b)).length(b - a), e});
+        const double length = quality_.metric_at(0.5 * (a + b)).length(b - a);
+        order.push_back({longest_first ? -length : length, e});
       }
       std::sort(order.begin(), order.end());
-      for(const auto& o : order) {
-        const int a = T[std::size_t(edges[o.second][0])], b = T[std::size_t(edges[o.second][1])];
-        if(collapse_edge(a, b) || collapse_edge(b, a)) {
-          ++collapses;
+      for(const auto& o : order)
+        if(change(t, T[std::size_t(edges[o.second][0])], T[std::size_t(edges[o.second][1])])) {
+          ++changes;
           break;
         }
-      }
       if(out_of_time())
         break;
     }
-    return collapses;
+    return changes;
   }
 
   /// Collapses the edge (v, w) by removing `v`: its tets through w go, the
