@@ -516,7 +516,7 @@ int run_mesh(int argc, char** argv)
     metric.visit([&](const auto& user_field) {
       // the field meshed (and measured): the user's, intersected near the
       // surface with the curvature sizes of the distance bound
-      const auto approximating = BM::make_surface_approximation_metric_field_3(domain, user_field, surface_distance);
+      const auto approximating = CGAL::make_surface_approximation_metric_field_3(domain, user_field, surface_distance);
       if(approximating.bounded()) {
         std::ostringstream d;
         d << metric.description() << " with surface distance " << approximating.distance();
@@ -525,7 +525,7 @@ int run_mesh(int argc, char** argv)
                  std::to_string(approximating.distance()));
       }
       // refined where corners and curves are closer than its sizes
-      const auto field = small_features ? BM::make_feature_size_metric_field_3(domain, approximating)
+      const auto field = small_features ? CGAL::make_feature_size_metric_field_3(domain, approximating)
                                         : CGAL::Feature_size_metric_field_3<std::decay_t<decltype(approximating)>>(approximating);
       if(field.refines())
         description += ", refined at small features";
@@ -538,7 +538,7 @@ int run_mesh(int argc, char** argv)
               .mesh_improvement(!o.has("--no-improve"))
               .time_limit(time_limit)
               .should_stop(std::function<bool()>([] { return interrupt_requested != 0; }))
-              .callback(std::function<void(const std::string&)>(progress)));
+              .progress_messages(std::function<void(const std::string&)>(progress)));
       quality = BM::compute_quality_report(mesh, field);
       if(o.has("--vtu") || o.has("--section"))
         per_tet = BM::metric_minimum_dihedral_angles(mesh, field);

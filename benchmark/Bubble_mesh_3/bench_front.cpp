@@ -22,7 +22,8 @@
 //   (--threads t: packing threads, 0 = all (default); the front is serial)
 #include <CGAL/Anisotropic_advancing_front_3.h>
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
-#include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
+#include <CGAL/Bubble_mesh_3/internal/pipeline/boundary_stage.h>
+#include <CGAL/Bubble_mesh_3/internal/pipeline/volume_stage.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Bubble_packer_3.h>
 #include <CGAL/Constant_metric_field_3.h>
@@ -49,7 +50,7 @@ typedef CGAL::Bubble_mesh_3::Metric_3 Metric;
 typedef CGAL::Constant_metric_field_3<K> Field;
 typedef CGAL::Anisotropic_advancing_front_3<Field> Front;
 typedef CGAL::Delaunay_triangulation_3<K> Delaunay;
-namespace F = CGAL::Bubble_mesh_3::internal::front;
+namespace BMI = CGAL::Bubble_mesh_3::internal;
 
 // the box [0, a] x [0, 1] x [0, 1]
 static Polyhedron box(double a)
@@ -112,34 +113,25 @@ static void run_case(const char* name, const Domain& domain, double volume, doub
   const double pack_seconds = seconds_since(t0);
   const auto nodes = packer.nodes();
 
-  // 2. boundary front on the surface nodes (first in the point list), as in
-  //    make_anisotropic_mesh_3.h, internal::mesh_domain
+  // 2. the pipeline's boundary stage, then its choice of interior nodes
   t0 = std::chrono::steady_clock::now();
-  const F::Boundary_surface surface = F::boundary_surface_from_polyhedral_domain(domain);
-  std::vector<F::Boundary_node> bnodes;
-  std::vector<Front::Point_3> points;
-  for(const auto& n : nodes) {
-    if(n.dimension > 2)
-      continue;
-    F::Boundary_node b;
-    b.point = {{CGAL::to_double(n.point.x()), CGAL::to_double(n.point.y()), CGAL::to_double(n.point.z())}};
-    b.dimension = n.dimension;
-    b.patch = n.dimension == 2 ? static_cast<int>(domain.surface_patch_index(n.index)) : -1;
-    bnodes.push_back(b);
-    points.emplace_back(b.point[0], b.point[1], b.point[2]);
-  }
-  const std::size_t boundary_nodes = points.size();
-  F::Boundary_front bf;
+  const BMI::Meshing_settings settings;
+  const BMI::Run_control control(settings);
+  CGAL::Bubble_mesh_3::Meshing_report report;
+  BMI::Domain_mesh dm;
   std::string failure;
   try {
-    bf = F::build_boundary_front(surface, bnodes, field);
+    BMI::boundary_stage(domain, field, nodes, control, report, dm);
   } catch(const std::exception& e) {
     failure = std::string("boundary front: ") + e.what();
   }
   const double boundary_seconds = seconds_since(t0);
-  for(const auto& n : nodes)
-    if(n.dimension == 3)
-      points.emplace_back(CGAL::to_double(n.point.x()), CGAL::to_double(n.point.y()), CGAL::to_double(n.point.z()));
+  const std::size_t boundary_nodes = dm.mesh.points.size();
+  if(failure.empty())
+    BMI::add_interior_nodes(domain, field, nodes, report, dm);
+  std::vector<Front::Point_3> points;
+  for(const auto& p : dm.mesh.points)
+    points.emplace_back(p[0], p[1], p[2]);
 
   // BM3_FRONT_DUMP=FILE writes the front's input (points, boundary triangles)
   // to profile the front alone
@@ -148,8 +140,8 @@ static void run_case(const char* name, const Domain& domain, double volume, doub
       std::fprintf(out, "%zu\n", points.size());
       for(const auto& p : points)
         std::fprintf(out, "%.17g %.17g %.17g\n", p.x(), p.y(), p.z());
-      std::fprintf(out, "%zu\n", bf.triangles.size());
-      for(const auto& t : bf.triangles)
+      std::fprintf(out, "%zu\n", dm.mesh.triangles.size());
+      for(const auto& t : dm.mesh.triangles)
         std::fprintf(out, "%d %d %d\n", t[0], t[1], t[2]);
       std::fclose(out);
     }
@@ -163,7 +155,7 @@ static void run_case(const char* name, const Domain& domain, double volume, doub
     const double c0 = thread_cpu_seconds();
     try {
       Front front(field);
-      r = front.run(points, bf.triangles);
+      r = front.run(points, dm.mesh.triangles);
     } catch(const std::exception& e) {
       failure = std::string("front: ") + e.what();
     }
@@ -189,13 +181,11 @@ static void run_case(const char* name, const Domain& domain, double volume, doub
   double validity_seconds = 0;
   if(failure.empty()) {
     t0 = std::chrono::steady_clock::now();
-    CGAL::Bubble_mesh_3::Indexed_tet_mesh_3 m;
-    for(const auto& p : r.points) {
-      m.points.push_back({{p.x(), p.y(), p.z()}});
+    CGAL::Bubble_mesh_3::Indexed_tet_mesh_3 m = dm.mesh;
+    for(std::size_t i = m.points.size(); i < r.points.size(); ++i) {
+      m.points.push_back({{r.points[i].x(), r.points[i].y(), r.points[i].z()}});
       m.point_refs.push_back(1);
     }
-    m.triangles = bf.triangles;
-    m.triangle_refs = bf.patches;
     m.tets = r.tets;
     m.tet_refs.assign(m.tets.size(), 1);
     CGAL::Bubble_mesh_3::Validity_options vo;

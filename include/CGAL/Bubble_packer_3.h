@@ -14,6 +14,7 @@
 #include <CGAL/Bubble_mesh_3/internal/packing/parallel.h>
 #include <CGAL/Bubble_mesh_3/internal/packing/surface_packing.h>
 #include <CGAL/Bubble_mesh_3/internal/packing/volume_packing.h>
+#include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Bubble_packer_traits_3.h>
 
 #include <CGAL/Default.h>
@@ -22,6 +23,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <random>
 #include <vector>
@@ -89,7 +91,8 @@ namespace CGAL {
 /// `Bubble_mesh_3::Invalid_metric` (from the field); an estimated number of
 /// bubbles (`estimated_number_of_bubbles()`, computed by the first stage before
 /// any packing) above `Parameters::maximum_number_of_bubbles` throws
-/// `Bubble_mesh_3::Invalid_input` before any memory is used for them.
+/// `Bubble_mesh_3::Too_many_nodes` before any memory is used for them;
+/// `Parameters::should_stop` returning true throws `Bubble_mesh_3::Interrupted`.
 template <typename MeshDomain, typename MetricField, typename Traits_ = Default>
 class Bubble_packer_3 {
 public:
@@ -114,7 +117,8 @@ public:
     double tolerance = 0.02;        ///< convergence: largest step of an iteration, metric units
     unsigned int seed = 0;          ///< seeds the lattice offsets of the initial populations
     int number_of_threads = 0;      ///< 0: all available (TBB); 1: serial
-    double maximum_number_of_bubbles = 5e7; ///< refuse larger estimates (Invalid_input)
+    /// refuse larger estimates (`Bubble_mesh_3::Too_many_nodes`)
+    double maximum_number_of_bubbles = Bubble_mesh_3::default_maximum_number_of_nodes;
     double skin = 0.2;              ///< Verlet list margin, in bubble sizes
     bool population_control = true; ///< adaptive insertion and deletion
     std::size_t curve_samples = 2048; ///< arc-length table size per feature curve
@@ -123,6 +127,9 @@ public:
     /// surface patches are triangulated (a guide for the surface stage; the
     /// surface nodes end on the domain's exact surface)
     int surface_grid_resolution = 64;
+    /// polled once per iteration of every stage (from the calling thread):
+    /// when it returns true the packing throws `Bubble_mesh_3::Interrupted`
+    std::function<bool()> should_stop;
   };
 
   /// What happened in one stage.
@@ -169,7 +176,7 @@ public:
   /// (hexagonal packing) and sqrt(2) times the metric volume of the domain
   /// (face-centred cubic packing; the volume is integrated over an octree,
   /// cells crossing the boundary by sampling). Throws
-  /// `Bubble_mesh_3::Invalid_input` when it exceeds
+  /// `Bubble_mesh_3::Too_many_nodes` when it exceeds
   /// `Parameters::maximum_number_of_bubbles` (the integration stops early then).
   double estimated_number_of_bubbles()
   {
@@ -180,7 +187,7 @@ public:
       check_estimate(total);
       std::vector<Record> none;
       P::Patch_seeder<Oracle, Refresh> surfaces(*oracle_, refresh_, lo_, offset_, limit - total, none, true);
-      total += surfaces.run();
+      total += counted_from(total, [&] { return surfaces.run(); });
       check_estimate(total);
       P::Volume_estimator<Oracle, Refresh> volume(*oracle_, refresh_, limit - total);
       volume_estimate_ = volume.run(lo_, hi_);
@@ -254,7 +261,7 @@ public:
     Bubble_mesh_3::internal::packing::Patch_seeder<Oracle, Refresh> seeder(*oracle_, refresh_, lo_, offset_,
                                                                            remaining_limit(), bubbles_);
     Bubble_mesh_3::internal::packing::Surface_constraint<Oracle> constraint(*oracle_);
-    s.expected_bubbles = seeder.run();
+    s.expected_bubbles = counted_from(double(first), [&] { return seeder.run(); });
     s.seeded = bubbles_.size() - first;
     relax(constraint, s, 0.5);
     if(oracle_->surface_tolerance() > 0) {
@@ -279,7 +286,7 @@ public:
     const std::size_t first = bubbles_.size();
     Bubble_mesh_3::internal::packing::Volume_seeder<Oracle, Refresh> seeder(*oracle_, refresh_, lo_, offset_,
                                                                             remaining_limit(), bubbles_);
-    seeder.run(lo_, hi_);
+    counted_from(double(first), [&] { return seeder.run(lo_, hi_); });
     s.expected_bubbles = volume_estimate_;
     s.seeded = bubbles_.size() - first;
     Bubble_mesh_3::internal::packing::Volume_constraint<Oracle> constraint(*oracle_);
@@ -350,15 +357,25 @@ private:
   void check_estimate(double total) const
   {
     if(total > param_.maximum_number_of_bubbles)
-      throw Bubble_mesh_3::Invalid_input("Bubble_packer_3: the estimated number of bubbles (at least " +
-                                         std::to_string(total) + ") exceeds maximum_number_of_bubbles");
+      throw Bubble_mesh_3::Too_many_nodes(total, param_.maximum_number_of_bubbles);
+  }
+
+  // runs a seeder that was given the cap left after `before` bubbles; its
+  // refusal counts only its own, the caller's names the whole estimate
+  template <typename Run>
+  auto counted_from(double before, const Run& run) const
+  {
+    try {
+      return run();
+    } catch(const Bubble_mesh_3::Too_many_nodes& e) {
+      throw Bubble_mesh_3::Too_many_nodes(before + e.estimated(), param_.maximum_number_of_bubbles);
+    }
   }
 
   void check_limit(double expected) const
   {
     if(expected > remaining_limit())
-      throw Bubble_mesh_3::Invalid_input("Bubble_packer_3: the estimated number of bubbles (" +
-                                         std::to_string(expected) + ") exceeds maximum_number_of_bubbles");
+      throw Bubble_mesh_3::Too_many_nodes(double(bubbles_.size()) + expected, param_.maximum_number_of_bubbles);
   }
 
   template <typename Constraint>
@@ -369,6 +386,7 @@ private:
     rs.tolerance = param_.tolerance;
     rs.skin = param_.skin;
     rs.population_control = param_.population_control;
+    rs.should_stop = param_.should_stop;
     Bubble_mesh_3::internal::packing::Relaxation<Traits, Constraint, Refresh> relaxation(bubbles_, traits_, constraint,
                                                                                        refresh_, exec_, rs);
     if(thin > 0)

@@ -452,6 +452,8 @@ namespace Bubble_mesh_3 {
 /// (`CGAL::Feature_size_metric_field_3`)
 constexpr double default_feature_size_gradation = 0.5;
 
+} // namespace Bubble_mesh_3
+
 /// \ingroup PkgBubbleMesh3Functions
 /// `field` refined where the corners and feature curves of `domain` (a model
 /// of `MeshDomainWithFeatures_3`) are closer to each other than its sizes
@@ -461,7 +463,7 @@ constexpr double default_feature_size_gradation = 0.5;
 template <typename MeshDomain, typename MetricField>
 CGAL::Feature_size_metric_field_3<MetricField>
 make_feature_size_metric_field_3(const MeshDomain& domain, const MetricField& field,
-                                 double gradation = default_feature_size_gradation)
+                                 double gradation = Bubble_mesh_3::default_feature_size_gradation)
 {
   typedef CGAL::Feature_size_metric_field_3<MetricField> Field;
   typedef typename MeshDomain::Point_3 Point_3;
@@ -493,7 +495,7 @@ make_feature_size_metric_field_3(const MeshDomain& domain, const MetricField& fi
       const auto a = corner_id.find(domain.corner_index(std::get<1>(t).second));
       const auto b = corner_id.find(domain.corner_index(std::get<2>(t).second));
       if(a == corner_id.end() || b == corner_id.end())
-        throw Invalid_input("feature sizes: a curve of the domain does not end at its corners");
+        throw Bubble_mesh_3::Invalid_input("feature sizes: a curve of the domain does not end at its corners");
       c.first_corner = a->second;
       c.last_corner = b->second;
     }
@@ -518,7 +520,7 @@ make_feature_size_metric_field_3(const MeshDomain& domain, const MetricField& fi
   return Field(field, corners, curves, gradation);
 }
 
-} // namespace Bubble_mesh_3
+
 } // namespace CGAL
 
 #endif // CGAL_FEATURE_SIZE_METRIC_FIELD_3_H

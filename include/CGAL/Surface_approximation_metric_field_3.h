@@ -7,6 +7,8 @@
 
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
+#include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Bubble_mesh_3/internal/surface_curvature.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -420,6 +422,44 @@ private:
   MetricField field_;
   std::shared_ptr<Data> data_;
 };
+
+/// \ingroup PkgBubbleMesh3Functions
+/// `field` intersected near the surface of `domain` (a
+/// `Polyhedral_mesh_domain_with_features_3` after `detect_features()`: its
+/// patches) with the metric that keeps the boundary within `distance` of it
+/// (`CGAL::Surface_approximation_metric_field_3`). A negative `distance` is
+/// the default, the bounding box diagonal times
+/// `Bubble_mesh_3::default_relative_surface_distance`; 0 or infinity: no bound (the field
+/// returned is then `field` itself). This is the field
+/// `make_anisotropic_mesh_3()` meshes with its `surface_distance` parameter:
+/// measure the mesh's quality in it.
+template <typename MeshDomain, typename MetricField>
+CGAL::Surface_approximation_metric_field_3<MetricField>
+make_surface_approximation_metric_field_3(const MeshDomain& domain, const MetricField& field, double distance = -1)
+{
+  if(std::isnan(distance))
+    throw Bubble_mesh_3::Invalid_input("surface distance: not a number");
+  if(distance == 0 || std::isinf(distance))
+    return CGAL::Surface_approximation_metric_field_3<MetricField>(field, {}, {}, {},
+                                                                   std::numeric_limits<double>::infinity());
+  const Bubble_mesh_3::internal::front::Boundary_surface surface =
+      Bubble_mesh_3::internal::front::boundary_surface_from_polyhedral_domain(domain);
+  if(surface.points.empty())
+    throw Bubble_mesh_3::Invalid_input("domain: the polyhedral surface has no faces");
+  if(distance < 0) {
+    std::array<double, 3> lo = surface.points.front(), hi = lo;
+    for(const auto& p : surface.points)
+      for(int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], p[k]);
+        hi[k] = std::max(hi[k], p[k]);
+      }
+    distance = Bubble_mesh_3::default_relative_surface_distance * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                                                             (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                                             (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  }
+  return CGAL::Surface_approximation_metric_field_3<MetricField>(field, surface.points, surface.triangles,
+                                                                 surface.patches, distance);
+}
 
 } // namespace CGAL
 

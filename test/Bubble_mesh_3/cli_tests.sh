@@ -151,7 +151,7 @@ expect mesh-open-surface 2 "open.off" -- "$tool" "$work/open.off" -o "$work/open
 check "no output for an open surface" [ ! -e "$work/open.mesh" ]
 expect mesh-missing-o 2 "missing -o" -- "$tool" "$work/cube.off" --size 0.3
 expect mesh-bad-o 2 "must end in .mesh" -- "$tool" "$work/cube.off" -o "$work/m.txt"
-expect mesh-too-many 2 "estimated number of bubbles .* exceeds maximum_number_of_bubbles = 10 " -- "$tool" "$work/cube.off" -o "$work/big.mesh" --size 0.3 --max-nodes 10 --quiet
+expect mesh-too-many 2 "the metric asks for about .* nodes, more than the cap of 10 " -- "$tool" "$work/cube.off" -o "$work/big.mesh" --size 0.3 --max-nodes 10 --quiet
 check "no output when refused" [ ! -e "$work/big.mesh" ]
 expect mesh-bad-metric 2 "not positive definite" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-const 1,2,0,1,0,1 --quiet
 expect mesh-bad-cylindrical 2 "cylindrical" -- "$tool" "$work/cube.off" -o "$work/x.mesh" --metric-cylindrical 0,0,0,0,0,0,0.2,3,1 --quiet

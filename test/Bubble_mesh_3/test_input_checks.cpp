@@ -25,10 +25,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -342,12 +344,21 @@ TEST(InputChecks, NodeEstimateAboveTheLimitIsRefusedBeforePacking)
   const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.01));
   BM::Meshing_report report;
   const auto t0 = std::chrono::steady_clock::now();
+  double estimated = 0, limit = 0;
   const std::string m = message_of<BM::Invalid_input>([&] {
-    BM::make_indexed_anisotropic_mesh_3(
-        *domain, field, BM::parameters::maximum_number_of_bubbles(1e5).meshing_report(&report));
+    try {
+      BM::make_indexed_anisotropic_mesh_3(
+          *domain, field, BM::parameters::maximum_number_of_bubbles(1e5).meshing_report(&report));
+    } catch(const BM::Too_many_nodes& e) { // the refusal has its own type
+      estimated = e.estimated();
+      limit = e.limit();
+      throw;
+    }
   });
-  EXPECT_TRUE(contains(m, "estimated number of bubbles")) << m;
-  EXPECT_TRUE(contains(m, "exceeds maximum_number_of_bubbles = 100000")) << m;
+  EXPECT_TRUE(contains(m, "the metric asks for about")) << m;
+  EXPECT_TRUE(contains(m, "more than the cap of 100000 (maximum_number_of_bubbles, --max-nodes")) << m;
+  EXPECT_EQ(limit, 1e5);
+  EXPECT_GT(estimated, 1e5);
   EXPECT_EQ(report.nodes[1] + report.nodes[2] + report.nodes[3], 0u) << "nothing packed";
   EXPECT_LT(BM::internal::seconds_since(t0), 30.0);
 }
@@ -383,12 +394,88 @@ TEST(InputChecks, ShouldStopInterruptsTheAdvancingFront)
   BM::Meshing_report report;
   const std::string m = message_of<BM::Interrupted>([&] {
     BM::make_indexed_anisotropic_mesh_3(*domain, field,
-                                        BM::parameters::should_stop(stop).callback(progress).meshing_report(&report));
+                                        BM::parameters::should_stop(stop).progress_messages(progress).meshing_report(
+                                            &report));
   });
   EXPECT_EQ(m, "interrupted during the advancing front");
   EXPECT_EQ(calls_after, 2); // the first check point of the front stopped it
   EXPECT_GT(report.nodes[3], 0u);
   EXPECT_EQ(report.tets, 0u) << "the front did not finish";
+}
+
+TEST(InputChecks, ShouldStopInterruptsThePacking)
+{
+  const auto domain = domain_from_off(bad + "inward_cube.off");
+  const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.05)); // about 20,000 nodes
+  bool estimated = false;
+  int polls_after = 0;
+  std::function<bool()> stop = [&] { return estimated && ++polls_after > 3; };
+  std::function<void(const std::string&)> progress = [&](const std::string& s) {
+    if(s.rfind("estimated nodes:", 0) == 0)
+      estimated = true;
+  };
+  BM::Meshing_report report;
+  const std::string m = message_of<BM::Interrupted>([&] {
+    BM::make_indexed_anisotropic_mesh_3(
+        *domain, field, BM::parameters::should_stop(stop).progress_messages(progress).meshing_report(&report));
+  });
+  // polled inside the packer's iterations, not only between its stages
+  EXPECT_EQ(m, "interrupted during the packing");
+  EXPECT_EQ(polls_after, 4);
+  EXPECT_EQ(report.nodes[3], 0u) << "the volume was not packed";
+}
+
+TEST(InputChecks, CallbackSeesTheAdvancementAndCanStop)
+{
+  const auto domain = domain_from_off(bad + "inward_cube.off");
+  const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.2));
+  // CGAL's meaning: the advancement in [0, 1], false stops the run
+  std::vector<double> seen;
+  const BM::Indexed_tet_mesh_3 mesh = BM::make_indexed_anisotropic_mesh_3(
+      *domain, field, BM::parameters::callback(std::function<bool(double)>([&](double a) {
+        seen.push_back(a);
+        return true;
+      })));
+  EXPECT_FALSE(mesh.tets.empty());
+  ASSERT_GE(seen.size(), 8u); // input, packing stages, fronts, improvement, validation, end
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_GE(seen.front(), 0.0);
+  EXPECT_EQ(seen.back(), 1.0);
+  int calls = 0;
+  const std::string m = message_of<BM::Interrupted>([&] {
+    BM::make_indexed_anisotropic_mesh_3(*domain, field, BM::parameters::callback(std::function<bool(double)>([&](double a) {
+                                                          ++calls;
+                                                          return a < 0.1;
+                                                        })));
+  });
+  EXPECT_TRUE(contains(m, "(the callback returned false)")) << m;
+  EXPECT_TRUE(contains(m, "interrupted during the packing")) << m;
+}
+
+TEST(InputChecks, VerbosePrintsTheStagesAndTheSummary)
+{
+  const auto domain = domain_from_off(bad + "inward_cube.off");
+  const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.25));
+  std::ostringstream captured;
+  std::streambuf* old = std::cerr.rdbuf(captured.rdbuf());
+  try {
+    BM::make_indexed_anisotropic_mesh_3(*domain, field, BM::parameters::verbose(true));
+  } catch(...) {
+    std::cerr.rdbuf(old);
+    throw;
+  }
+  std::cerr.rdbuf(old);
+  const std::string text = captured.str();
+  EXPECT_TRUE(contains(text, "packed volume:")) << text;
+  EXPECT_TRUE(contains(text, "advancing front:")) << text;
+  EXPECT_TRUE(contains(text, "nodes:    ")) << text; // the summary
+  EXPECT_TRUE(contains(text, "total:    ")) << text;
+  // quiet by default
+  std::ostringstream none;
+  old = std::cerr.rdbuf(none.rdbuf());
+  BM::make_indexed_anisotropic_mesh_3(*domain, field);
+  std::cerr.rdbuf(old);
+  EXPECT_EQ(none.str(), "");
 }
 
 TEST(InputChecks, TimeLimitThrowsTimeLimitExceeded)

@@ -540,7 +540,7 @@ TEST(MakeMesh, SurfaceDistanceBoundsTheBoundaryOfACurvedWall)
     EXPECT_GT(plain.surface_distance, 0.1);
     EXPECT_LT(bounded.volume_error, 0.01);
     // quality in the metric the mesh was made for
-    const auto effective = BM::make_surface_approximation_metric_field_3(domain, field, 0.02);
+    const auto effective = CGAL::make_surface_approximation_metric_field_3(domain, field, 0.02);
     const auto q = BM::compute_quality_report(m, effective);
     std::cout << "[ measured ] cylinder size " << size << ", bound 0.02: " << m.points.size() << " vertices, distance "
               << bounded.surface_distance << " (without: " << plain.surface_distance << "), volume error "

@@ -508,7 +508,7 @@ TEST(BubblePacker, RefusesTooManyBubbles)
   Constant_packer::Parameters prm;
   prm.maximum_number_of_bubbles = 1e5;
   Constant_packer packer(domain, field, prm);
-  EXPECT_THROW(packer.run(), CGAL::Bubble_mesh_3::Invalid_input);
+  EXPECT_THROW(packer.run(), CGAL::Bubble_mesh_3::Too_many_nodes); // an Invalid_input
 }
 
 TEST(BubblePacker, InvalidMetricPropagates)

@@ -37,6 +37,32 @@ public:
 };
 
 /// \ingroup PkgBubbleMesh3Ref
+/// The metric asks for more nodes than the cap allows
+/// (`maximum_number_of_bubbles`, the tool's `--max-nodes`): refused before
+/// any memory is spent on them. An `Invalid_input` (exit code 2); the message
+/// gives the estimate, the cap and what to do.
+class Too_many_nodes : public Invalid_input {
+public:
+  Too_many_nodes(double estimated, double limit)
+      : Invalid_input("the metric asks for about " + whole(estimated) + " nodes, more than the cap of " +
+                      whole(limit) + " (maximum_number_of_bubbles, --max-nodes; a run needs about 2.6 kB of "
+                      "memory per node): coarsen the metric or raise the cap"),
+        estimated_(estimated), limit_(limit)
+  {}
+  /// the estimated number of nodes (a lower bound when refused early)
+  double estimated() const { return estimated_; }
+  /// the cap it exceeds
+  double limit() const { return limit_; }
+
+private:
+  static std::string whole(double x)
+  {
+    return x < 9.2e18 ? std::to_string(static_cast<long long>(x + 0.5)) : std::to_string(x);
+  }
+  double estimated_, limit_;
+};
+
+/// \ingroup PkgBubbleMesh3Ref
 /// Meshing could not produce a valid mesh from valid input (for example the
 /// advancing front could not close and no cavity filler was available). Not
 /// an `Invalid_input`: the command-line tool turns it into exit code 3. The

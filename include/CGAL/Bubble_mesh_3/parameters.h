@@ -41,6 +41,7 @@ enum surface_distance_t { surface_distance };
 enum feature_angle_t { feature_angle };
 enum minimum_feature_length_t { minimum_feature_length };
 enum small_feature_refinement_t { small_feature_refinement };
+enum progress_messages_t { progress_messages };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -70,6 +71,7 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, feature_angle)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, minimum_feature_length)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, small_feature_refinement)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, progress_messages)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -86,7 +88,7 @@ namespace parameters {
   }
 /// number of threads of the packing (0: all, 1: serial); the mesh does not depend on it
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, number_of_threads)
-/// refuse (Invalid_input) when the estimated node count exceeds this (default: `default_maximum_number_of_nodes`)
+/// refuse (`Too_many_nodes`) when the estimated node count exceeds this (default: `default_maximum_number_of_nodes`)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, maximum_number_of_bubbles)
 /// whether the front may add Steiner points strictly inside cavities it cannot close (default true)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, allow_steiner_points)
@@ -109,9 +111,14 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, minimum_feature_length)
 /// refine the metric where the domain's corners and feature curves are closer than its sizes (default true;
 /// `CGAL::Feature_size_metric_field_3`)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, small_feature_refinement)
+/// a `std::function<void(const std::string&)>` receiving a line per stage (nodes, tets, seconds)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, progress_messages)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
+/// CGAL's meaning: a `std::function<bool(double)>` called at every check point with the advancement of the
+/// run (0 to 1); when it returns false, `Interrupted` is thrown
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, callback)
+/// the stage messages and the final summary to `std::cerr` (default false)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, verbose)
 #undef CGAL_BUBBLE_MESH_3_FREE
 } // namespace parameters

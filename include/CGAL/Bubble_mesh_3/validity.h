@@ -333,284 +333,316 @@ struct Validity_union_find {
 
 } // namespace internal
 
-/// \ingroup PkgBubbleMesh3Ref
-/// Checks that `mesh` is a valid tetrahedral mesh: indices and coordinates,
-/// positive orientation of every tet (exact), conformity (each face on at
-/// most two tets, on opposite sides), a manifold boundary, boundary and
-/// interface faces equal to the listed triangles (when there are any),
-/// the volume identity, and unused vertices. See the comment at the top of
-/// this file for why these checks exclude overlapping tets.
-/// Never throws on a bad mesh: every problem goes into the report.
-inline Validity_report check_validity(const Indexed_tet_mesh_3& mesh, const Validity_options& options = {})
-{
+namespace internal {
+
+// The steps of `check_validity()`, in order; each adds to the report what it
+// finds. The later steps use what the earlier ones established (which tets
+// and triangles have valid indices, the boundary faces).
+class Validity_checker {
   typedef CGAL::Exact_predicates_inexact_constructions_kernel::Point_3 Point;
-  using internal::Validity_face_entry;
 
-  Validity_report r;
-  internal::Validity_problem_log log(r, options.max_listed_problems);
-  const std::size_t np = mesh.points.size();
-  const std::size_t nt = mesh.tets.size();
-  r.number_of_points = np;
-  r.number_of_tets = nt;
-  r.number_of_triangles = mesh.triangles.size();
-  r.unused_vertices_allowed = options.allow_unused_vertices;
-  r.require_outward_triangles = options.require_outward_triangles;
-  r.duplicate_triangles_allowed = options.allow_duplicate_triangles;
-  if(np > std::size_t(std::numeric_limits<std::int32_t>::max()) ||
-     nt > std::size_t(std::numeric_limits<std::int32_t>::max()))
-    throw std::length_error("check_validity: more than 2^31-1 points or tets");
+public:
+  Validity_checker(const Indexed_tet_mesh_3& m, const Validity_options& o)
+      : mesh(m), options(o), log(r, o.max_listed_problems), np(m.points.size()), nt(m.tets.size())
+  {
+    r.number_of_points = np;
+    r.number_of_tets = nt;
+    r.number_of_triangles = mesh.triangles.size();
+    r.unused_vertices_allowed = options.allow_unused_vertices;
+    r.require_outward_triangles = options.require_outward_triangles;
+    r.duplicate_triangles_allowed = options.allow_duplicate_triangles;
+    if(np > std::size_t(std::numeric_limits<std::int32_t>::max()) ||
+       nt > std::size_t(std::numeric_limits<std::int32_t>::max()))
+      throw std::length_error("check_validity: more than 2^31-1 points or tets");
+  }
 
-  // ---- 1. input sanity -------------------------------------------------
-  auto check_refs = [&](std::size_t refs, std::size_t elements, const char* what) {
-    if(refs != elements && !(refs == 0 && elements == 0)) {
-      ++r.reference_size_mismatches;
-      log.add(std::string(what) + " has " + std::to_string(refs) + " entries for " + std::to_string(elements) +
-              " elements");
+  Validity_report run()
+  {
+    check_input();
+    check_orientation();
+    collect_faces();
+    check_boundary_edges();
+    check_boundary_vertex_links();
+    if(options.compute_boundary_topology && !boundary.empty())
+      compute_boundary_topology();
+    std::vector<std::uint64_t>().swap(unique_edges);
+    if(options.check_boundary_triangles && !mesh.triangles.empty())
+      check_listed_triangles();
+    check_volume();
+    check_unused_vertices();
+    if(options.check_boundary_self_intersections && r.is_valid())
+      check_embedding();
+    return r;
+  }
+
+private:
+  // 1. input sanity: reference array sizes, finite points, indices in range and distinct
+  void check_input()
+  {
+    auto check_refs = [&](std::size_t refs, std::size_t elements, const char* what) {
+      if(refs != elements && !(refs == 0 && elements == 0)) {
+        ++r.reference_size_mismatches;
+        log.add(std::string(what) + " has " + std::to_string(refs) + " entries for " + std::to_string(elements) +
+                " elements");
+      }
+    };
+    check_refs(mesh.point_refs.size(), np, "point_refs");
+    check_refs(mesh.edge_refs.size(), mesh.edges.size(), "edge_refs");
+    check_refs(mesh.triangle_refs.size(), mesh.triangles.size(), "triangle_refs");
+    check_refs(mesh.tet_refs.size(), nt, "tet_refs");
+
+    finite_point.assign(np, 1);
+    for(std::size_t i = 0; i < np; ++i) {
+      const auto& p = mesh.points[i];
+      if(!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
+        finite_point[i] = 0;
+        ++r.non_finite_points;
+        log.add_lazy([&] { return "point " + std::to_string(i) + " has a non-finite coordinate"; });
+      }
     }
-  };
-  check_refs(mesh.point_refs.size(), np, "point_refs");
-  check_refs(mesh.edge_refs.size(), mesh.edges.size(), "edge_refs");
-  check_refs(mesh.triangle_refs.size(), mesh.triangles.size(), "triangle_refs");
-  check_refs(mesh.tet_refs.size(), nt, "tet_refs");
+    auto in_range = [this](int v) { return v >= 0 && std::size_t(v) < np; };
 
-  std::vector<char> finite_point(np, 1);
-  for(std::size_t i = 0; i < np; ++i) {
-    const auto& p = mesh.points[i];
-    if(!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
-      finite_point[i] = 0;
-      ++r.non_finite_points;
-      log.add_lazy([&] { return "point " + std::to_string(i) + " has a non-finite coordinate"; });
+    // tet_ok: indices in range and distinct; tet_geometric: also finite points
+    tet_ok.assign(nt, 0);
+    used.assign(np, 0);
+    for(std::size_t t = 0; t < nt; ++t) {
+      const auto& T = mesh.tets[t];
+      if(!(in_range(T[0]) && in_range(T[1]) && in_range(T[2]) && in_range(T[3]))) {
+        ++r.invalid_indices;
+        log.add_lazy([&] {
+          return "tet " + std::to_string(t) + ": vertex index out of range [0, " + std::to_string(np) + ")";
+        });
+        continue;
+      }
+      if(T[0] == T[1] || T[0] == T[2] || T[0] == T[3] || T[1] == T[2] || T[1] == T[3] || T[2] == T[3]) {
+        ++r.tets_with_repeated_vertex;
+        log.add_lazy([&] { return "tet " + std::to_string(t) + ": repeated vertex"; });
+        continue;
+      }
+      tet_ok[t] = 1;
+      for(int v : T)
+        used[std::size_t(v)] = 1;
+    }
+    triangle_ok.assign(mesh.triangles.size(), 0);
+    for(std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      const auto& F = mesh.triangles[i];
+      if(!(in_range(F[0]) && in_range(F[1]) && in_range(F[2]))) {
+        ++r.invalid_indices;
+        log.add_lazy([&] { return "triangle " + std::to_string(i) + ": vertex index out of range"; });
+      } else if(F[0] == F[1] || F[0] == F[2] || F[1] == F[2]) {
+        ++r.triangles_with_repeated_vertex;
+        log.add_lazy([&] { return "triangle " + std::to_string(i) + ": repeated vertex"; });
+      } else {
+        triangle_ok[i] = 1;
+      }
+    }
+    for(std::size_t i = 0; i < mesh.edges.size(); ++i) {
+      if(!(in_range(mesh.edges[i][0]) && in_range(mesh.edges[i][1]))) {
+        ++r.invalid_indices;
+        log.add_lazy([&] { return "edge " + std::to_string(i) + ": vertex index out of range"; });
+      }
+    }
+    for(std::size_t i = 0; i < mesh.corners.size(); ++i) {
+      if(!in_range(mesh.corners[i])) {
+        ++r.invalid_indices;
+        log.add_lazy([&] { return "corner " + std::to_string(i) + ": vertex index out of range"; });
+      }
     }
   }
-  auto in_range = [np](int v) { return v >= 0 && std::size_t(v) < np; };
 
-  // tet_ok: indices in range and distinct; tet_geometric: also finite points
-  std::vector<char> tet_ok(nt, 0);
-  std::vector<char> used(np, 0);
-  for(std::size_t t = 0; t < nt; ++t) {
-    const auto& T = mesh.tets[t];
-    if(!(in_range(T[0]) && in_range(T[1]) && in_range(T[2]) && in_range(T[3]))) {
-      ++r.invalid_indices;
+  // 2. orientation: every tet positive (exact)
+  void check_orientation()
+  {
+    auto point = [&](std::uint32_t v) {
+      const auto& p = mesh.points[v];
+      return Point(p[0], p[1], p[2]);
+    };
+    auto tet_finite = [&](std::size_t t) {
+      const auto& T = mesh.tets[t];
+      return finite_point[T[0]] && finite_point[T[1]] && finite_point[T[2]] && finite_point[T[3]];
+    };
+    for(std::size_t t = 0; t < nt; ++t) {
+      if(!tet_ok[t] || !tet_finite(t))
+        continue;
+      const auto& T = mesh.tets[t];
+      const CGAL::Orientation o = CGAL::orientation(point(T[0]), point(T[1]), point(T[2]), point(T[3]));
+      if(o == CGAL::POSITIVE)
+        continue;
+      if(o == CGAL::NEGATIVE)
+        ++r.negative_tets;
+      else
+        ++r.flat_tets;
       log.add_lazy([&] {
-        return "tet " + std::to_string(t) + ": vertex index out of range [0, " + std::to_string(np) + ")";
+        return "tet " + std::to_string(t) + " (" + std::to_string(T[0]) + " " + std::to_string(T[1]) + " " +
+               std::to_string(T[2]) + " " + std::to_string(T[3]) + ") is " +
+               (o == CGAL::NEGATIVE ? "negatively oriented" : "flat");
       });
-      continue;
-    }
-    if(T[0] == T[1] || T[0] == T[2] || T[0] == T[3] || T[1] == T[2] || T[1] == T[3] || T[2] == T[3]) {
-      ++r.tets_with_repeated_vertex;
-      log.add_lazy([&] { return "tet " + std::to_string(t) + ": repeated vertex"; });
-      continue;
-    }
-    tet_ok[t] = 1;
-    for(int v : T)
-      used[std::size_t(v)] = 1;
-  }
-  std::vector<char> triangle_ok(mesh.triangles.size(), 0);
-  for(std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const auto& F = mesh.triangles[i];
-    if(!(in_range(F[0]) && in_range(F[1]) && in_range(F[2]))) {
-      ++r.invalid_indices;
-      log.add_lazy([&] { return "triangle " + std::to_string(i) + ": vertex index out of range"; });
-    } else if(F[0] == F[1] || F[0] == F[2] || F[1] == F[2]) {
-      ++r.triangles_with_repeated_vertex;
-      log.add_lazy([&] { return "triangle " + std::to_string(i) + ": repeated vertex"; });
-    } else {
-      triangle_ok[i] = 1;
-    }
-  }
-  for(std::size_t i = 0; i < mesh.edges.size(); ++i) {
-    if(!(in_range(mesh.edges[i][0]) && in_range(mesh.edges[i][1]))) {
-      ++r.invalid_indices;
-      log.add_lazy([&] { return "edge " + std::to_string(i) + ": vertex index out of range"; });
-    }
-  }
-  for(std::size_t i = 0; i < mesh.corners.size(); ++i) {
-    if(!in_range(mesh.corners[i])) {
-      ++r.invalid_indices;
-      log.add_lazy([&] { return "corner " + std::to_string(i) + ": vertex index out of range"; });
     }
   }
 
-  // ---- 2. orientation (exact) -----------------------------------------
-  auto point = [&](std::uint32_t v) {
-    const auto& p = mesh.points[v];
-    return Point(p[0], p[1], p[2]);
-  };
-  auto tet_finite = [&](std::size_t t) {
-    const auto& T = mesh.tets[t];
-    return finite_point[T[0]] && finite_point[T[1]] && finite_point[T[2]] && finite_point[T[3]];
-  };
-  for(std::size_t t = 0; t < nt; ++t) {
-    if(!tet_ok[t] || !tet_finite(t))
-      continue;
-    const auto& T = mesh.tets[t];
-    const CGAL::Orientation o = CGAL::orientation(point(T[0]), point(T[1]), point(T[2]), point(T[3]));
-    if(o == CGAL::POSITIVE)
-      continue;
-    if(o == CGAL::NEGATIVE)
-      ++r.negative_tets;
-    else
-      ++r.flat_tets;
-    log.add_lazy([&] {
-      return "tet " + std::to_string(t) + " (" + std::to_string(T[0]) + " " + std::to_string(T[1]) + " " +
-             std::to_string(T[2]) + " " + std::to_string(T[3]) + ") is " +
-             (o == CGAL::NEGATIVE ? "negatively oriented" : "flat");
-    });
-  }
+  // 3. conformity: faces on at most two tets, on opposite sides; the boundary and interface faces
+  void collect_faces()
+  {
+    // For a positively oriented tet (0,1,2,3) the outward faces are
+    // (1,2,3), (0,3,2), (0,1,3), (0,2,1).
+    std::vector<Validity_face_entry> faces;
+    faces.reserve(4 * nt);
+    for(std::size_t t = 0; t < nt; ++t) {
+      if(!tet_ok[t])
+        continue;
+      const auto& T = mesh.tets[t];
+      const std::uint32_t v0 = std::uint32_t(T[0]), v1 = std::uint32_t(T[1]), v2 = std::uint32_t(T[2]),
+                          v3 = std::uint32_t(T[3]);
+      const std::uint32_t tt = std::uint32_t(t);
+      faces.push_back(internal::validity_make_face(v1, v2, v3, tt));
+      faces.push_back(internal::validity_make_face(v0, v3, v2, tt));
+      faces.push_back(internal::validity_make_face(v0, v1, v3, tt));
+      faces.push_back(internal::validity_make_face(v0, v2, v1, tt));
+    }
+    std::sort(faces.begin(), faces.end());
 
-  // ---- 3. conformity ---------------------------------------------------
-  // For a positively oriented tet (0,1,2,3) the outward faces are
-  // (1,2,3), (0,3,2), (0,1,3), (0,2,1).
-  std::vector<Validity_face_entry> faces;
-  faces.reserve(4 * nt);
-  for(std::size_t t = 0; t < nt; ++t) {
-    if(!tet_ok[t])
-      continue;
-    const auto& T = mesh.tets[t];
-    const std::uint32_t v0 = std::uint32_t(T[0]), v1 = std::uint32_t(T[1]), v2 = std::uint32_t(T[2]),
-                        v3 = std::uint32_t(T[3]);
-    const std::uint32_t tt = std::uint32_t(t);
-    faces.push_back(internal::validity_make_face(v1, v2, v3, tt));
-    faces.push_back(internal::validity_make_face(v0, v3, v2, tt));
-    faces.push_back(internal::validity_make_face(v0, v1, v3, tt));
-    faces.push_back(internal::validity_make_face(v0, v2, v1, tt));
-  }
-  std::sort(faces.begin(), faces.end());
-
-  auto tet_ref = [&](std::uint32_t t) { return t < mesh.tet_refs.size() ? mesh.tet_refs[t] : 0; };
-  // faces that must be listed as triangles: boundary faces (outward) and
-  // interface faces (parity: that of the first tet in sort order)
-  std::vector<Validity_face_entry> boundary; // faces of exactly one tet
-  std::vector<Validity_face_entry> required; // boundary + interface
-  for(std::size_t i = 0; i < faces.size();) {
-    std::size_t j = i + 1;
-    while(j < faces.size() && faces[j].same_face(faces[i]))
-      ++j;
-    const std::size_t n = j - i;
-    const Validity_face_entry& f = faces[i];
-    if(n == 1) {
-      ++r.boundary_faces;
-      boundary.push_back(f);
-      required.push_back(f);
-    } else if(n == 2) {
-      if(faces[i].parity() != faces[i + 1].parity()) {
-        ++r.interior_faces;
-        if(tet_ref(faces[i].tet()) != tet_ref(faces[i + 1].tet())) {
-          ++r.interface_faces;
-          required.push_back(f);
+    auto tet_ref = [&](std::uint32_t t) { return t < mesh.tet_refs.size() ? mesh.tet_refs[t] : 0; };
+    // faces that must be listed as triangles: boundary faces (outward) and
+    // interface faces (parity: that of the first tet in sort order)
+    for(std::size_t i = 0; i < faces.size();) {
+      std::size_t j = i + 1;
+      while(j < faces.size() && faces[j].same_face(faces[i]))
+        ++j;
+      const std::size_t n = j - i;
+      const Validity_face_entry& f = faces[i];
+      if(n == 1) {
+        ++r.boundary_faces;
+        boundary.push_back(f);
+        required.push_back(f);
+      } else if(n == 2) {
+        if(faces[i].parity() != faces[i + 1].parity()) {
+          ++r.interior_faces;
+          if(tet_ref(faces[i].tet()) != tet_ref(faces[i + 1].tet())) {
+            ++r.interface_faces;
+            required.push_back(f);
+          }
+        } else {
+          ++r.faces_with_tets_on_same_side;
+          log.add_lazy([&] {
+            return "face " + internal::validity_triple(f.a(), f.b(), f.c()) + ": tets " + std::to_string(f.tet()) +
+                   " and " + std::to_string(faces[i + 1].tet()) + " lie on the same side (they overlap)";
+          });
         }
       } else {
-        ++r.faces_with_tets_on_same_side;
+        ++r.faces_shared_by_more_than_two_tets;
         log.add_lazy([&] {
-          return "face " + internal::validity_triple(f.a(), f.b(), f.c()) + ": tets " + std::to_string(f.tet()) +
-                 " and " + std::to_string(faces[i + 1].tet()) + " lie on the same side (they overlap)";
-        });
-      }
-    } else {
-      ++r.faces_shared_by_more_than_two_tets;
-      log.add_lazy([&] {
-        return "face " + internal::validity_triple(f.a(), f.b(), f.c()) + " is shared by " + std::to_string(n) +
-               " tets";
-      });
-    }
-    i = j;
-  }
-  std::vector<Validity_face_entry>().swap(faces);
-
-  // Boundary edges: each must be on exactly two boundary faces. Keys are
-  // (min << 32 | max); edge_face_count holds the counts of the sorted keys.
-  std::vector<std::uint64_t> edge_keys;
-  edge_keys.reserve(3 * boundary.size());
-  for(const Validity_face_entry& f : boundary) {
-    const std::array<std::uint32_t, 3> v = {f.a(), f.b(), f.c()};
-    edge_keys.push_back((std::uint64_t(v[0]) << 32) | v[1]);
-    edge_keys.push_back((std::uint64_t(v[1]) << 32) | v[2]);
-    edge_keys.push_back((std::uint64_t(v[0]) << 32) | v[2]);
-  }
-  std::sort(edge_keys.begin(), edge_keys.end());
-  std::vector<std::uint64_t> unique_edges;
-  for(std::size_t i = 0; i < edge_keys.size();) {
-    std::size_t j = i + 1;
-    while(j < edge_keys.size() && edge_keys[j] == edge_keys[i])
-      ++j;
-    unique_edges.push_back(edge_keys[i]);
-    if(j - i != 2) {
-      ++r.non_manifold_boundary_edges;
-      log.add_lazy([&] {
-        return "boundary edge (" + std::to_string(edge_keys[i] >> 32) + " " +
-               std::to_string(edge_keys[i] & 0xffffffffu) + ") is on " + std::to_string(j - i) +
-               " boundary faces (non-manifold)";
-      });
-    }
-    i = j;
-  }
-  std::vector<std::uint64_t>().swap(edge_keys);
-
-  // Boundary vertices: the link of v in the boundary surface (one edge
-  // (x, y) per boundary face (v, x, y)) must be a single cycle: every link
-  // vertex of degree 2 and the link connected.
-  {
-    std::vector<std::array<std::uint32_t, 3>> star; // (v, x, y)
-    star.reserve(3 * boundary.size());
-    for(const Validity_face_entry& f : boundary) {
-      star.push_back({f.a(), f.b(), f.c()});
-      star.push_back({f.b(), f.c(), f.a()});
-      star.push_back({f.c(), f.a(), f.b()});
-    }
-    std::sort(star.begin(), star.end(),
-              [](const std::array<std::uint32_t, 3>& x, const std::array<std::uint32_t, 3>& y) { return x[0] < y[0]; });
-    std::vector<std::uint32_t> link;   // distinct link vertices
-    std::vector<int> degree;
-    std::vector<std::uint32_t> parent; // local union-find over link
-    for(std::size_t i = 0; i < star.size();) {
-      std::size_t j = i + 1;
-      while(j < star.size() && star[j][0] == star[i][0])
-        ++j;
-      link.clear();
-      for(std::size_t k = i; k < j; ++k) {
-        link.push_back(star[k][1]);
-        link.push_back(star[k][2]);
-      }
-      std::sort(link.begin(), link.end());
-      link.erase(std::unique(link.begin(), link.end()), link.end());
-      degree.assign(link.size(), 0);
-      parent.resize(link.size());
-      for(std::size_t k = 0; k < link.size(); ++k)
-        parent[k] = std::uint32_t(k);
-      auto find = [&](std::uint32_t x) {
-        while(parent[x] != x)
-          x = parent[x] = parent[parent[x]];
-        return x;
-      };
-      auto index = [&](std::uint32_t v) {
-        return std::uint32_t(std::lower_bound(link.begin(), link.end(), v) - link.begin());
-      };
-      std::size_t components = link.size();
-      for(std::size_t k = i; k < j; ++k) {
-        const std::uint32_t x = index(star[k][1]), y = index(star[k][2]);
-        ++degree[x];
-        ++degree[y];
-        const std::uint32_t rx = find(x), ry = find(y);
-        if(rx != ry) {
-          parent[rx] = ry;
-          --components;
-        }
-      }
-      const bool all_degree_2 = std::all_of(degree.begin(), degree.end(), [](int d) { return d == 2; });
-      if(components != 1 || !all_degree_2) {
-        ++r.non_manifold_boundary_vertices;
-        const std::uint32_t v = star[i][0];
-        log.add_lazy([&] {
-          return "boundary vertex " + std::to_string(v) + " is non-manifold (its link has " +
-                 std::to_string(components) + " component(s)" + (all_degree_2 ? "" : ", not a cycle") + ")";
+          return "face " + internal::validity_triple(f.a(), f.b(), f.c()) + " is shared by " + std::to_string(n) +
+                 " tets";
         });
       }
       i = j;
     }
+    std::vector<Validity_face_entry>().swap(faces);
   }
 
-  // Boundary topology (information): components through shared vertices.
-  if(options.compute_boundary_topology && !boundary.empty()) {
+  // 3. each boundary edge on exactly two boundary faces
+  void check_boundary_edges()
+  {
+    // Boundary edges: each must be on exactly two boundary faces. Keys are
+    // (min << 32 | max); edge_face_count holds the counts of the sorted keys.
+    std::vector<std::uint64_t> edge_keys;
+    edge_keys.reserve(3 * boundary.size());
+    for(const Validity_face_entry& f : boundary) {
+      const std::array<std::uint32_t, 3> v = {f.a(), f.b(), f.c()};
+      edge_keys.push_back((std::uint64_t(v[0]) << 32) | v[1]);
+      edge_keys.push_back((std::uint64_t(v[1]) << 32) | v[2]);
+      edge_keys.push_back((std::uint64_t(v[0]) << 32) | v[2]);
+    }
+    std::sort(edge_keys.begin(), edge_keys.end());
+    unique_edges.clear();
+    for(std::size_t i = 0; i < edge_keys.size();) {
+      std::size_t j = i + 1;
+      while(j < edge_keys.size() && edge_keys[j] == edge_keys[i])
+        ++j;
+      unique_edges.push_back(edge_keys[i]);
+      if(j - i != 2) {
+        ++r.non_manifold_boundary_edges;
+        log.add_lazy([&] {
+          return "boundary edge (" + std::to_string(edge_keys[i] >> 32) + " " +
+                 std::to_string(edge_keys[i] & 0xffffffffu) + ") is on " + std::to_string(j - i) +
+                 " boundary faces (non-manifold)";
+        });
+      }
+      i = j;
+    }
+    std::vector<std::uint64_t>().swap(edge_keys);
+  }
+
+  // 3. each boundary vertex with a single cycle as its link
+  void check_boundary_vertex_links()
+  {
+    // Boundary vertices: the link of v in the boundary surface (one edge
+    // (x, y) per boundary face (v, x, y)) must be a single cycle: every link
+    // vertex of degree 2 and the link connected.
+    {
+      std::vector<std::array<std::uint32_t, 3>> star; // (v, x, y)
+      star.reserve(3 * boundary.size());
+      for(const Validity_face_entry& f : boundary) {
+        star.push_back({f.a(), f.b(), f.c()});
+        star.push_back({f.b(), f.c(), f.a()});
+        star.push_back({f.c(), f.a(), f.b()});
+      }
+      std::sort(star.begin(), star.end(),
+                [](const std::array<std::uint32_t, 3>& x, const std::array<std::uint32_t, 3>& y) { return x[0] < y[0]; });
+      std::vector<std::uint32_t> link;   // distinct link vertices
+      std::vector<int> degree;
+      std::vector<std::uint32_t> parent; // local union-find over link
+      for(std::size_t i = 0; i < star.size();) {
+        std::size_t j = i + 1;
+        while(j < star.size() && star[j][0] == star[i][0])
+          ++j;
+        link.clear();
+        for(std::size_t k = i; k < j; ++k) {
+          link.push_back(star[k][1]);
+          link.push_back(star[k][2]);
+        }
+        std::sort(link.begin(), link.end());
+        link.erase(std::unique(link.begin(), link.end()), link.end());
+        degree.assign(link.size(), 0);
+        parent.resize(link.size());
+        for(std::size_t k = 0; k < link.size(); ++k)
+          parent[k] = std::uint32_t(k);
+        auto find = [&](std::uint32_t x) {
+          while(parent[x] != x)
+            x = parent[x] = parent[parent[x]];
+          return x;
+        };
+        auto index = [&](std::uint32_t v) {
+          return std::uint32_t(std::lower_bound(link.begin(), link.end(), v) - link.begin());
+        };
+        std::size_t components = link.size();
+        for(std::size_t k = i; k < j; ++k) {
+          const std::uint32_t x = index(star[k][1]), y = index(star[k][2]);
+          ++degree[x];
+          ++degree[y];
+          const std::uint32_t rx = find(x), ry = find(y);
+          if(rx != ry) {
+            parent[rx] = ry;
+            --components;
+          }
+        }
+        const bool all_degree_2 = std::all_of(degree.begin(), degree.end(), [](int d) { return d == 2; });
+        if(components != 1 || !all_degree_2) {
+          ++r.non_manifold_boundary_vertices;
+          const std::uint32_t v = star[i][0];
+          log.add_lazy([&] {
+            return "boundary vertex " + std::to_string(v) + " is non-manifold (its link has " +
+                   std::to_string(components) + " component(s)" + (all_degree_2 ? "" : ", not a cycle") + ")";
+          });
+        }
+        i = j;
+      }
+    }
+  }
+
+  // information: the boundary components and their Euler characteristics
+  void compute_boundary_topology()
+  {
     internal::Validity_union_find uf(np);
     for(const Validity_face_entry& f : boundary) {
       uf.unite(f.a(), f.b());
@@ -643,10 +675,10 @@ inline Validity_report check_validity(const Indexed_tet_mesh_3& mesh, const Vali
         r.boundary_components.push_back(c);
     }
   }
-  std::vector<std::uint64_t>().swap(unique_edges);
 
-  // ---- 4. boundary consistency -----------------------------------------
-  if(options.check_boundary_triangles && !mesh.triangles.empty()) {
+  // 4. the listed triangles are exactly the boundary and interface faces (outward)
+  void check_listed_triangles()
+  {
     r.boundary_triangles_checked = true;
     std::vector<Validity_face_entry> listed; // tet field = triangle index
     listed.reserve(mesh.triangles.size());
@@ -711,100 +743,107 @@ inline Validity_report check_validity(const Indexed_tet_mesh_3& mesh, const Vali
     }
   }
 
-  // ---- 5. volume -------------------------------------------------------
-  r.volume_checked = (r.non_finite_points == 0);
-  if(r.volume_checked) {
-    // reference point: the centre of the bounding box of the used points
-    std::array<double, 3> lo = {0, 0, 0}, hi = {0, 0, 0};
-    bool first = true;
-    for(std::size_t v = 0; v < np; ++v) {
-      if(!used[v])
-        continue;
-      for(int k = 0; k < 3; ++k) {
-        lo[k] = first ? mesh.points[v][k] : std::min(lo[k], mesh.points[v][k]);
-        hi[k] = first ? mesh.points[v][k] : std::max(hi[k], mesh.points[v][k]);
+  // 5. volume: the tets fill what the boundary encloses (exact when in doubt)
+  void check_volume()
+  {
+    r.volume_checked = (r.non_finite_points == 0);
+    if(r.volume_checked) {
+      // reference point: the centre of the bounding box of the used points
+      std::array<double, 3> lo = {0, 0, 0}, hi = {0, 0, 0};
+      bool first = true;
+      for(std::size_t v = 0; v < np; ++v) {
+        if(!used[v])
+          continue;
+        for(int k = 0; k < 3; ++k) {
+          lo[k] = first ? mesh.points[v][k] : std::min(lo[k], mesh.points[v][k]);
+          hi[k] = first ? mesh.points[v][k] : std::max(hi[k], mesh.points[v][k]);
+        }
+        first = false;
       }
-      first = false;
-    }
-    const std::array<double, 3> o = {0.5 * lo[0] + 0.5 * hi[0], 0.5 * lo[1] + 0.5 * hi[1], 0.5 * lo[2] + 0.5 * hi[2]};
-    internal::Validity_compensated_sum tets_sum, abs_sum, boundary_sum;
-    for(std::size_t t = 0; t < nt; ++t) {
-      if(!tet_ok[t])
-        continue;
-      const auto& T = mesh.tets[t];
-      const auto& p0 = mesh.points[T[0]];
-      const auto& p1 = mesh.points[T[1]];
-      const auto& p2 = mesh.points[T[2]];
-      const auto& p3 = mesh.points[T[3]];
-      const double d = internal::validity_det3(p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2], p2[0] - p0[0],
-                                               p2[1] - p0[1], p2[2] - p0[2], p3[0] - p0[0], p3[1] - p0[1],
-                                               p3[2] - p0[2]);
-      tets_sum.add(d);
-      abs_sum.add(std::abs(d));
-    }
-    for(const Validity_face_entry& f : boundary) {
-      const std::array<std::uint32_t, 3> v = internal::validity_oriented(f);
-      const auto& a = mesh.points[v[0]];
-      const auto& b = mesh.points[v[1]];
-      const auto& c = mesh.points[v[2]];
-      boundary_sum.add(internal::validity_det3(a[0] - o[0], a[1] - o[1], a[2] - o[2], b[0] - o[0], b[1] - o[1],
-                                               b[2] - o[2], c[0] - o[0], c[1] - o[1], c[2] - o[2]));
-    }
-    r.tet_volume = tets_sum.value() / 6;
-    r.boundary_volume = boundary_sum.value() / 6;
-    const double scale = abs_sum.value() / 6;
-    r.volume_identity_holds =
-        std::abs(r.tet_volume - r.boundary_volume) <= options.volume_relative_tolerance * scale;
-    if(!r.volume_identity_holds) {
-      // settle it exactly (dyadic inputs: Exact_rational is exact)
-      Exact_rational exact_tets = 0;
-      Exact_rational exact_boundary = 0;
+      const std::array<double, 3> o = {0.5 * lo[0] + 0.5 * hi[0], 0.5 * lo[1] + 0.5 * hi[1], 0.5 * lo[2] + 0.5 * hi[2]};
+      internal::Validity_compensated_sum tets_sum, abs_sum, boundary_sum;
       for(std::size_t t = 0; t < nt; ++t) {
         if(!tet_ok[t])
           continue;
         const auto& T = mesh.tets[t];
-        exact_tets += internal::validity_exact_det(mesh.points[T[0]], mesh.points[T[1]], mesh.points[T[2]],
-                                                   mesh.points[T[3]]);
+        const auto& p0 = mesh.points[T[0]];
+        const auto& p1 = mesh.points[T[1]];
+        const auto& p2 = mesh.points[T[2]];
+        const auto& p3 = mesh.points[T[3]];
+        const double d = internal::validity_det3(p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2], p2[0] - p0[0],
+                                                 p2[1] - p0[1], p2[2] - p0[2], p3[0] - p0[0], p3[1] - p0[1],
+                                                 p3[2] - p0[2]);
+        tets_sum.add(d);
+        abs_sum.add(std::abs(d));
       }
       for(const Validity_face_entry& f : boundary) {
         const std::array<std::uint32_t, 3> v = internal::validity_oriented(f);
-        exact_boundary += internal::validity_exact_det(o, mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]]);
+        const auto& a = mesh.points[v[0]];
+        const auto& b = mesh.points[v[1]];
+        const auto& c = mesh.points[v[2]];
+        boundary_sum.add(internal::validity_det3(a[0] - o[0], a[1] - o[1], a[2] - o[2], b[0] - o[0], b[1] - o[1],
+                                                 b[2] - o[2], c[0] - o[0], c[1] - o[1], c[2] - o[2]));
       }
-      r.volume_identity_holds = (exact_tets == exact_boundary);
+      r.tet_volume = tets_sum.value() / 6;
+      r.boundary_volume = boundary_sum.value() / 6;
+      const double scale = abs_sum.value() / 6;
+      r.volume_identity_holds =
+          std::abs(r.tet_volume - r.boundary_volume) <= options.volume_relative_tolerance * scale;
       if(!r.volume_identity_holds) {
-        std::ostringstream s;
-        s.precision(17);
-        s << "sum of tet volumes " << r.tet_volume << " differs from the volume enclosed by the boundary faces "
-          << r.boundary_volume << " (exact comparison)";
-        log.add(s.str());
+        // settle it exactly (dyadic inputs: Exact_rational is exact)
+        Exact_rational exact_tets = 0;
+        Exact_rational exact_boundary = 0;
+        for(std::size_t t = 0; t < nt; ++t) {
+          if(!tet_ok[t])
+            continue;
+          const auto& T = mesh.tets[t];
+          exact_tets += internal::validity_exact_det(mesh.points[T[0]], mesh.points[T[1]], mesh.points[T[2]],
+                                                     mesh.points[T[3]]);
+        }
+        for(const Validity_face_entry& f : boundary) {
+          const std::array<std::uint32_t, 3> v = internal::validity_oriented(f);
+          exact_boundary += internal::validity_exact_det(o, mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]]);
+        }
+        r.volume_identity_holds = (exact_tets == exact_boundary);
+        if(!r.volume_identity_holds) {
+          std::ostringstream s;
+          s.precision(17);
+          s << "sum of tet volumes " << r.tet_volume << " differs from the volume enclosed by the boundary faces "
+            << r.boundary_volume << " (exact comparison)";
+          log.add(s.str());
+        }
       }
-    }
-    if(options.expected_volume) {
-      r.expected_volume_checked = true;
-      r.expected_volume = *options.expected_volume;
-      r.expected_volume_matches = std::abs(r.tet_volume - r.expected_volume) <=
-                                  options.expected_volume_relative_tolerance * std::abs(r.expected_volume);
-      if(!r.expected_volume_matches) {
-        std::ostringstream s;
-        s.precision(17);
-        s << "sum of tet volumes " << r.tet_volume << " differs from the expected volume " << r.expected_volume
-          << " by more than " << options.expected_volume_relative_tolerance << " relative";
-        log.add(s.str());
+      if(options.expected_volume) {
+        r.expected_volume_checked = true;
+        r.expected_volume = *options.expected_volume;
+        r.expected_volume_matches = std::abs(r.tet_volume - r.expected_volume) <=
+                                    options.expected_volume_relative_tolerance * std::abs(r.expected_volume);
+        if(!r.expected_volume_matches) {
+          std::ostringstream s;
+          s.precision(17);
+          s << "sum of tet volumes " << r.tet_volume << " differs from the expected volume " << r.expected_volume
+            << " by more than " << options.expected_volume_relative_tolerance << " relative";
+          log.add(s.str());
+        }
       }
     }
   }
 
-  // ---- 6. unused vertices ----------------------------------------------
-  for(std::size_t v = 0; v < np; ++v) {
-    if(used[v])
-      continue;
-    ++r.unused_vertices;
-    if(!options.allow_unused_vertices)
-      log.add_lazy([&] { return "vertex " + std::to_string(v) + " is used by no tet"; });
+  // 6. every vertex used by a tet
+  void check_unused_vertices()
+  {
+    for(std::size_t v = 0; v < np; ++v) {
+      if(used[v])
+        continue;
+      ++r.unused_vertices;
+      if(!options.allow_unused_vertices)
+        log.add_lazy([&] { return "vertex " + std::to_string(v) + " is used by no tet"; });
+    }
   }
 
-  // ---- 7. embedding: no subdomain boundary intersects itself -----------
-  if(options.check_boundary_self_intersections && r.is_valid()) {
+  // 7. embedding: no subdomain boundary intersects itself
+  void check_embedding()
+  {
     std::size_t unchecked = 0;
     r.boundary_self_intersections = internal::boundary_self_intersections(mesh, &unchecked);
     r.self_intersections_checked = unchecked == 0;
@@ -812,7 +851,33 @@ inline Validity_report check_validity(const Indexed_tet_mesh_3& mesh, const Vali
       log.add("the boundary intersects itself (" + std::to_string(r.boundary_self_intersections) +
               " pairs of triangles): tets overlap there");
   }
-  return r;
+
+  const Indexed_tet_mesh_3& mesh;
+  const Validity_options& options;
+  Validity_report r;
+  Validity_problem_log log;
+  const std::size_t np, nt;
+  // established by check_input()
+  std::vector<char> finite_point, tet_ok, used, triangle_ok;
+  // established by collect_faces(): faces of exactly one tet, and those with
+  // the interfaces between subdomains (the faces to be listed as triangles)
+  std::vector<Validity_face_entry> boundary, required;
+  std::vector<std::uint64_t> unique_edges; // boundary edges, (min << 32) | max
+};
+
+} // namespace internal
+
+/// \ingroup PkgBubbleMesh3Ref
+/// Checks that `mesh` is a valid tetrahedral mesh: indices and coordinates,
+/// positive orientation of every tet (exact), conformity (each face on at
+/// most two tets, on opposite sides), a manifold boundary, boundary and
+/// interface faces equal to the listed triangles (when there are any),
+/// the volume identity, and unused vertices. See the comment at the top of
+/// this file for why these checks exclude overlapping tets.
+/// Never throws on a bad mesh: every problem goes into the report.
+inline Validity_report check_validity(const Indexed_tet_mesh_3& mesh, const Validity_options& options = {})
+{
+  return internal::Validity_checker(mesh, options).run();
 }
 
 /// \ingroup PkgBubbleMesh3Ref

@@ -839,22 +839,20 @@ private:
   bool swap_;
 };
 
-inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::string& name)
-{
-  const Context cx{name, "ply"};
-  Lines lines(data, size, 0);
-  std::string_view line, t;
-  if(size == 0)
-    cx.fail("empty file");
-  lines.next(line);
-  {
-    Fields f(line);
-    if(!f.next(t) || t != "ply" || f.next(t))
-      cx.fail_at(1, "expected 'ply' on the first line, got " + quote(line));
-  }
-  enum Format { none, ascii, little, big } format = none;
+enum Ply_format { ply_none, ply_ascii, ply_little, ply_big };
+
+struct Ply_header {
+  Ply_format format = ply_none;
   std::string format_text;
   std::vector<Ply_element> elements;
+};
+
+// The header after the 'ply' line, up to 'end_header' (refused: unknown or
+// repeated lines, bad types, a missing format).
+inline Ply_header read_ply_header(Lines& lines, const Context& cx)
+{
+  std::string_view line, t;
+  Ply_header h;
   bool end_header = false;
   while(!end_header && lines.next(line)) {
     const std::size_t ln = lines.number();
@@ -876,21 +874,21 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
         cx.fail_at(ln, "unexpected " + quote(w[1]) + " after 'end_header'");
       end_header = true;
     } else if(w[0] == "format") {
-      if(format != none)
+      if(h.format != ply_none)
         cx.fail_at(ln, "a second 'format' line");
       if(w.size() != 3)
         cx.fail_at(ln, "expected 'format ascii|binary_little_endian|binary_big_endian 1.0', got " + quote(line));
       if(w[1] == "ascii")
-        format = ascii;
+        h.format = ply_ascii;
       else if(w[1] == "binary_little_endian")
-        format = little;
+        h.format = ply_little;
       else if(w[1] == "binary_big_endian")
-        format = big;
+        h.format = ply_big;
       else
         cx.fail_at(ln, "unknown format " + quote(w[1]) + " (expected ascii, binary_little_endian or binary_big_endian)");
       if(w[2] != "1.0" && w[2] != "1")
         cx.fail_at(ln, "unsupported PLY version " + quote(w[2]) + " (expected 1.0)");
-      format_text = std::string(w[1]);
+      h.format_text = std::string(w[1]);
     } else if(w[0] == "element") {
       if(w.size() != 3)
         cx.fail_at(ln, "expected 'element NAME COUNT', got " + quote(line));
@@ -899,12 +897,12 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
       e.line = ln;
       if(!parse_integer(w[2], e.count))
         cx.fail_at(ln, "expected the count of element " + quote(e.name) + " (a non-negative integer), got " + quote(w[2]));
-      for(const Ply_element& o : elements)
+      for(const Ply_element& o : h.elements)
         if(o.name == e.name && (e.name == "vertex" || e.name == "face"))
           cx.fail_at(ln, "a second " + quote(e.name) + " element");
-      elements.push_back(std::move(e));
+      h.elements.push_back(std::move(e));
     } else if(w[0] == "property") {
-      if(elements.empty())
+      if(h.elements.empty())
         cx.fail_at(ln, "'property' before any 'element' line");
       Ply_property p;
       if(w.size() == 3) {
@@ -923,7 +921,7 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
       } else {
         cx.fail_at(ln, "expected 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME', got " + quote(line));
       }
-      Ply_element& e = elements.back();
+      Ply_element& e = h.elements.back();
       for(const Ply_property& o : e.properties)
         if(o.name == p.name)
           cx.fail_at(ln, "a second property " + quote(p.name) + " in element " + quote(e.name));
@@ -949,12 +947,20 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
   }
   if(!end_header)
     cx.fail("the header has no 'end_header' line (truncated file?)");
-  if(format == none)
+  if(h.format == ply_none)
     cx.fail("the header has no 'format' line");
 
-  const Ply_element* vertex = nullptr;
-  const Ply_element* face = nullptr;
-  for(const Ply_element& e : elements) {
+  return h;
+}
+
+// The 'vertex' element (with x, y and z) and the 'face' element (with its
+// index list) if there is one.
+inline void find_ply_elements(const Ply_header& h, const Context& cx, const Ply_element*& vertex,
+                              const Ply_element*& face)
+{
+  vertex = nullptr;
+  face = nullptr;
+  for(const Ply_element& e : h.elements) {
     if(e.name == "vertex")
       vertex = &e;
     if(e.name == "face")
@@ -977,17 +983,19 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
       cx.fail_at(face->line, "the 'face' element has no 'vertex_indices' (or 'vertex_index') list");
   }
 
+}
+
+inline void check_ply_counts(const Ply_header& h, std::size_t data_size, const Context& cx)
+{
   // Every item takes at least its minimum size (binary: the scalars and the
   // list counts; ASCII: one digit and one blank per property), and the
   // elements follow each other: refuse counts the data cannot hold before
   // allocating anything.
-  const std::size_t data_size = lines.bytes_left();
-  const std::size_t data_offset = size - data_size;
-  std::uint64_t budget = std::uint64_t(data_size) + (format == ascii ? 1 : 0); // the last blank may be missing
-  for(const Ply_element& e : elements) {
+  std::uint64_t budget = std::uint64_t(data_size) + (h.format == ply_ascii ? 1 : 0); // the last blank may be missing
+  for(const Ply_element& e : h.elements) {
     std::uint64_t minimum = 0;
     for(const Ply_property& p : e.properties)
-      minimum += format == ascii ? 2 : ply_size(p.list ? p.count_type : p.type);
+      minimum += h.format == ply_ascii ? 2 : ply_size(p.list ? p.count_type : p.type);
     if(minimum == 0)
       continue;
     if(e.count > budget / minimum)
@@ -996,83 +1004,90 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
                              (budget < data_size ? " after the elements before it" : "") + " (truncated file?)");
     budget -= e.count * minimum;
   }
-  Polygon_soup soup;
-  soup.points.reserve(std::size_t(vertex->count));
-  if(face != nullptr)
-    soup.polygons.reserve(std::size_t(face->count));
+}
 
-  const std::string where = format == ascii ? std::string() : format_text + " data: ";
-  auto item_text = [](const Ply_element& e, std::uint64_t i) {
-    return "element " + quote(e.name) + " item " + str(i) + " (0-based) of " + str(e.count);
-  };
+inline std::string ply_item_text(const Ply_element& e, std::uint64_t i)
+{
+  return "element " + quote(e.name) + " item " + str(i) + " (0-based) of " + str(e.count);
+}
 
-  if(format == ascii) {
-    Tokens tokens(data + data_offset, data_size, lines.number() + 1);
-    for(const Ply_element& e : elements) {
-      if(e.properties.empty())
-        continue;
-      const bool is_vertex = &e == vertex, is_face = &e == face;
-      for(std::uint64_t i = 0; i < e.count; ++i) {
-        std::array<double, 3> point = {{0, 0, 0}};
-        std::vector<std::size_t> polygon;
-        for(const Ply_property& p : e.properties) {
-          auto next = [&](const char* what) {
-            if(!tokens.next(t))
-              cx.fail("unexpected end of file in " + item_text(e, i) + ": expected " + what +
-                                            " of property " + quote(p.name));
-          };
-          if(!p.list) {
-            next("the value");
-            double x = 0;
-            if(!parse_double(t, x))
-              cx.fail_at(tokens.line(), "expected a number for property " + quote(p.name) + " of " + item_text(e, i) +
-                                            ", got " + quote(t));
-            if(is_vertex && p.role >= 0) {
-              if(!std::isfinite(x))
-                cx.fail_at(tokens.line(), "vertex " + str(i) + " (0-based) has a non-finite coordinate " + quote(t));
-              point[std::size_t(p.role)] = x;
-            }
-            continue;
+// The ASCII data after the header (what follows the last element is ignored).
+inline void read_ply_ascii(const char* data, std::size_t size, std::size_t first_line, const Ply_header& h,
+                           const Ply_element* vertex, const Ply_element* face, const Context& cx, Polygon_soup& soup)
+{
+  std::string_view t;
+  Tokens tokens(data, size, first_line);
+  for(const Ply_element& e : h.elements) {
+    if(e.properties.empty())
+      continue;
+    const bool is_vertex = &e == vertex, is_face = &e == face;
+    for(std::uint64_t i = 0; i < e.count; ++i) {
+      std::array<double, 3> point = {{0, 0, 0}};
+      std::vector<std::size_t> polygon;
+      for(const Ply_property& p : e.properties) {
+        auto next = [&](const char* what) {
+          if(!tokens.next(t))
+            cx.fail("unexpected end of file in " + ply_item_text(e, i) + ": expected " + what +
+                                          " of property " + quote(p.name));
+        };
+        if(!p.list) {
+          next("the value");
+          double x = 0;
+          if(!parse_double(t, x))
+            cx.fail_at(tokens.line(), "expected a number for property " + quote(p.name) + " of " + ply_item_text(e, i) +
+                                          ", got " + quote(t));
+          if(is_vertex && p.role >= 0) {
+            if(!std::isfinite(x))
+              cx.fail_at(tokens.line(), "vertex " + str(i) + " (0-based) has a non-finite coordinate " + quote(t));
+            point[std::size_t(p.role)] = x;
           }
-          next("the list length");
-          std::uint64_t n = 0;
-          if(!parse_integer(t, n))
-            cx.fail_at(tokens.line(), "expected the list length (a non-negative integer) of property " + quote(p.name) +
-                                          " of " + item_text(e, i) + ", got " + quote(t));
-          if(n > (tokens.bytes_left() + 1) / 2)
-            cx.fail_at(tokens.line(), "the list " + quote(p.name) + " of " + item_text(e, i) + " announces " + str(n) +
-                                          " entries, more than the rest of the file holds");
-          const bool indices = is_face && p.role == 3;
-          if(indices)
-            polygon.reserve(std::size_t(n));
-          for(std::uint64_t k = 0; k < n; ++k) {
-            next("a list entry");
-            if(indices) {
-              std::uint64_t v = 0;
-              if(!parse_integer(t, v))
-                cx.fail_at(tokens.line(), "expected a vertex index (a non-negative integer) in face " + str(i) +
-                                              " (0-based), got " + quote(t));
-              polygon.push_back(std::size_t(v));
-            } else {
-              double x;
-              if(!parse_double(t, x))
-                cx.fail_at(tokens.line(), "expected a number in the list " + quote(p.name) + " of " + item_text(e, i) +
-                                              ", got " + quote(t));
-            }
+          continue;
+        }
+        next("the list length");
+        std::uint64_t n = 0;
+        if(!parse_integer(t, n))
+          cx.fail_at(tokens.line(), "expected the list length (a non-negative integer) of property " + quote(p.name) +
+                                        " of " + ply_item_text(e, i) + ", got " + quote(t));
+        if(n > (tokens.bytes_left() + 1) / 2)
+          cx.fail_at(tokens.line(), "the list " + quote(p.name) + " of " + ply_item_text(e, i) + " announces " + str(n) +
+                                        " entries, more than the rest of the file holds");
+        const bool indices = is_face && p.role == 3;
+        if(indices)
+          polygon.reserve(std::size_t(n));
+        for(std::uint64_t k = 0; k < n; ++k) {
+          next("a list entry");
+          if(indices) {
+            std::uint64_t v = 0;
+            if(!parse_integer(t, v))
+              cx.fail_at(tokens.line(), "expected a vertex index (a non-negative integer) in face " + str(i) +
+                                            " (0-based), got " + quote(t));
+            polygon.push_back(std::size_t(v));
+          } else {
+            double x;
+            if(!parse_double(t, x))
+              cx.fail_at(tokens.line(), "expected a number in the list " + quote(p.name) + " of " + ply_item_text(e, i) +
+                                            ", got " + quote(t));
           }
         }
-        if(is_vertex)
-          soup.points.push_back(point);
-        if(is_face)
-          soup.polygons.push_back(std::move(polygon));
       }
+      if(is_vertex)
+        soup.points.push_back(point);
+      if(is_face)
+        soup.polygons.push_back(std::move(polygon));
     }
-    return soup; // what follows the last element is ignored
   }
 
+}
+
+// The binary data, from byte `data_offset` of the file (messages name it with
+// `where`).
+inline void read_ply_binary(const char* data, std::size_t size, std::size_t data_offset, const Ply_header& h,
+                            const Ply_element* vertex, const Ply_element* face, const std::string& where,
+                            const Context& cx, Polygon_soup& soup)
+{
   Ply_binary in(reinterpret_cast<const unsigned char*>(data + data_offset),
-                reinterpret_cast<const unsigned char*>(data + size), format == big);
-  for(const Ply_element& e : elements) {
+                reinterpret_cast<const unsigned char*>(data + size), h.format == ply_big);
+  for(const Ply_element& e : h.elements) {
     if(e.properties.empty())
       continue;
     const bool is_vertex = &e == vertex, is_face = &e == face;
@@ -1082,7 +1097,7 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
       for(const Ply_property& p : e.properties) {
         auto need = [&](std::uint64_t bytes, const char* what) {
           if(bytes > in.left())
-            cx.fail(where + "the file ends inside " + item_text(e, i) + " (" + what + " of property " + quote(p.name) +
+            cx.fail(where + "the file ends inside " + ply_item_text(e, i) + " (" + what + " of property " + quote(p.name) +
                     " at byte " + str(data_offset + in.offset()) + " needs " + str(bytes) + " bytes, " +
                     str(in.left()) + " left; truncated file?)");
         };
@@ -1098,10 +1113,10 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
         const std::int64_t n = in.load_integer(p.count_type);
         if(n < 0)
           cx.fail(where + "negative list length " + std::to_string(n) + " of property " + quote(p.name) + " in " +
-                  item_text(e, i));
+                  ply_item_text(e, i));
         const std::uint64_t entry = ply_size(p.type);
         if(std::uint64_t(n) > in.left() / entry)
-          cx.fail(where + "the list " + quote(p.name) + " of " + item_text(e, i) + " announces " + std::to_string(n) +
+          cx.fail(where + "the list " + quote(p.name) + " of " + ply_item_text(e, i) + " announces " + std::to_string(n) +
                   " entries (" + str(std::uint64_t(n) * entry) + " bytes), more than the " + str(in.left()) +
                   " bytes left (truncated or corrupt file)");
         if(is_face && p.role == 3) {
@@ -1122,6 +1137,36 @@ inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::str
         soup.polygons.push_back(std::move(polygon));
     }
   }
+}
+
+inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::string& name)
+{
+  const Context cx{name, "ply"};
+  Lines lines(data, size, 0);
+  std::string_view line, t;
+  if(size == 0)
+    cx.fail("empty file");
+  lines.next(line);
+  {
+    Fields f(line);
+    if(!f.next(t) || t != "ply" || f.next(t))
+      cx.fail_at(1, "expected 'ply' on the first line, got " + quote(line));
+  }
+  const Ply_header h = read_ply_header(lines, cx);
+  const Ply_element* vertex = nullptr;
+  const Ply_element* face = nullptr;
+  find_ply_elements(h, cx, vertex, face);
+  const std::size_t data_size = lines.bytes_left();
+  const std::size_t data_offset = size - data_size;
+  check_ply_counts(h, data_size, cx);
+  Polygon_soup soup;
+  soup.points.reserve(std::size_t(vertex->count));
+  if(face != nullptr)
+    soup.polygons.reserve(std::size_t(face->count));
+  if(h.format == ply_ascii)
+    read_ply_ascii(data + data_offset, data_size, lines.number() + 1, h, vertex, face, cx, soup);
+  else
+    read_ply_binary(data, size, data_offset, h, vertex, face, h.format_text + " data: ", cx, soup);
   return soup;
 }
 

@@ -101,29 +101,10 @@ inline std::vector<std::array<int, 3>> single_faces(const std::vector<std::array
   return result;
 }
 
-/// One padding with the box margin of `options` (see `pad_to_box()`).
-inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const Padding_options& options)
+/// Step 1 of the padding: the box around the domain's tets, `options`'
+/// relative margin (at least 1e-3) of their largest extent away.
+inline void padding_box(const Indexed_tet_mesh_3& domain, const Padding_options& options, Padded_tet_mesh_3& result)
 {
-#ifndef CGAL_BUBBLE_MESH_3_PADDING_USES_TETGEN
-  (void)domain;
-  (void)options;
-  throw Invalid_input("exterior padding needs TetGen until the advancing front pads "
-                      "(build with BUBBLE_MESH_3_HAS_TETGEN and link -ltet)");
-#else
-  typedef CGAL::Exact_predicates_inexact_constructions_kernel::Point_3 Point;
-  const std::size_t n = domain.points.size();
-  if (n == 0 || domain.tets.empty()) throw Invalid_input("exterior padding: empty domain mesh");
-  for (const auto& t : domain.tets)
-    for (int v : t)
-      if (v < 0 || static_cast<std::size_t>(v) >= n) throw Invalid_input("exterior padding: vertex index out of range");
-
-  Padded_tet_mesh_3 result;
-  result.mesh = domain;
-  result.number_of_domain_points = n;
-  result.number_of_domain_tets = domain.tets.size();
-  if (result.mesh.tet_refs.size() != domain.tets.size()) result.mesh.tet_refs.resize(domain.tets.size(), 1);
-
-  // 1. box
   std::array<double, 3> lo = domain.points[domain.tets[0][0]], hi = lo;
   for (const auto& t : domain.tets)
     for (int v : t)
@@ -138,6 +119,130 @@ inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const
     result.box_min[k] = lo[k] - margin;
     result.box_max[k] = hi[k] + margin;
   }
+}
+
+/// Step 3: one point inside each face-connected component of the domain's
+/// tets (the centroid of one of its tets): TetGen's hole points.
+inline std::vector<std::array<double, 3>> one_point_in_each_component(const Indexed_tet_mesh_3& domain)
+{
+  std::vector<int> parent(domain.tets.size());
+  for (std::size_t t = 0; t < parent.size(); ++t) parent[t] = static_cast<int>(t);
+  auto find = [&parent](int t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  {
+    std::map<std::array<int, 3>, int> face_tet;
+    for (std::size_t t = 0; t < domain.tets.size(); ++t)
+      for (int skip = 0; skip < 4; ++skip) {
+        std::array<int, 3> key;
+        for (int k = 0, j = 0; k < 4; ++k)
+          if (k != skip) key[j++] = domain.tets[t][k];
+        std::sort(key.begin(), key.end());
+        auto it = face_tet.emplace(key, static_cast<int>(t));
+        if (!it.second) parent[find(static_cast<int>(t))] = find(it.first->second);
+      }
+  }
+  std::vector<std::array<double, 3>> holes;
+  for (std::size_t t = 0; t < domain.tets.size(); ++t)
+    if (find(static_cast<int>(t)) == static_cast<int>(t)) {
+      std::array<double, 3> c{0, 0, 0};
+      for (int v : domain.tets[t])
+        for (int k = 0; k < 3; ++k) c[k] += 0.25 * domain.points[v][k];
+      holes.push_back(c);
+    }
+  return holes;
+}
+
+#ifdef CGAL_BUBBLE_MESH_3_PADDING_USES_TETGEN
+/// Step 6: TetGen's tets into `result` (the PLC's first `nb` points are
+/// the domain's `domain_of`, then the 8 box corners from `first_box_id`):
+/// input points keep their ids, Steiner points are appended when used, every
+/// tet is made positive (exact test). Returns the points of the padded mesh.
+inline std::vector<CGAL::Exact_predicates_inexact_constructions_kernel::Point_3>
+append_tetgen_tets(const Tetgen_output& out, const std::vector<int>& domain_of, int first_box_id,
+                   Padded_tet_mesh_3& result)
+{
+  typedef CGAL::Exact_predicates_inexact_constructions_kernel::Point_3 Point;
+  const int nb = static_cast<int>(domain_of.size());
+  const int number_of_points = static_cast<int>(out.points.size() / 3);
+  std::vector<int> padded_of(static_cast<std::size_t>(number_of_points), -1);
+  for (int i = 0; i < nb; ++i) padded_of[i] = domain_of[i];
+  for (int c = 0; c < 8; ++c) padded_of[nb + c] = first_box_id + c;
+  std::vector<Point> pts;
+  pts.reserve(result.mesh.points.size());
+  for (const auto& p : result.mesh.points) pts.emplace_back(p[0], p[1], p[2]);
+  for (std::size_t t = 0; 4 * t + 3 < out.tets.size(); ++t) {
+    std::array<int, 4> tet;
+    for (int k = 0; k < 4; ++k) {
+      const int o = out.tets[4 * t + static_cast<std::size_t>(k)];
+      if (o < 0 || o >= number_of_points) throw Meshing_failure("exterior padding: bad TetGen vertex id");
+      if (padded_of[o] < 0) {
+        padded_of[o] = static_cast<int>(result.mesh.points.size());
+        result.mesh.points.push_back({out.points[3 * o], out.points[3 * o + 1], out.points[3 * o + 2]});
+        pts.emplace_back(out.points[3 * o], out.points[3 * o + 1], out.points[3 * o + 2]);
+        ++result.number_of_steiner_points;
+      }
+      tet[k] = padded_of[o];
+    }
+    switch (CGAL::orientation(pts[tet[0]], pts[tet[1]], pts[tet[2]], pts[tet[3]])) {
+    case CGAL::NEGATIVE: std::swap(tet[2], tet[3]); break;
+    case CGAL::POSITIVE: break;
+    default: throw Meshing_failure("exterior padding: TetGen returned a flat tet");
+    }
+    result.mesh.tets.push_back(tet);
+    result.mesh.tet_refs.push_back(0);
+  }
+  result.mesh.point_refs.resize(result.mesh.points.size(), 0);
+
+  return pts;
+}
+
+/// Step 7: TetGen's tets are used only if they tile the box exactly
+/// (positive, checked in step 6, and their boundary chain with the domain's
+/// tets is made of faces on the box, each once: tet_boundary_chain.h), so
+/// that a wrong result is caught here, not in CGAL's C3T3 builder.
+inline void check_padding_tiles_box(const std::vector<CGAL::Exact_predicates_inexact_constructions_kernel::Point_3>& pts,
+                                    Padded_tet_mesh_3& result)
+{
+  if (!boundary_chain(result.mesh.tets, result.box_triangles))
+    throw Meshing_failure("exterior padding: TetGen's exterior tets overlap the domain or each other");
+  for (const auto& f : result.box_triangles) {
+    bool on_box = false;
+    for (int k = 0; k < 3 && !on_box; ++k)
+      on_box = (pts[f[0]][k] == result.box_min[k] && pts[f[1]][k] == result.box_min[k] &&
+                pts[f[2]][k] == result.box_min[k]) ||
+               (pts[f[0]][k] == result.box_max[k] && pts[f[1]][k] == result.box_max[k] &&
+                pts[f[2]][k] == result.box_max[k]);
+    if (!on_box)
+      throw Meshing_failure("exterior padding: TetGen's exterior tets do not match the domain boundary");
+  }
+}
+
+#endif
+
+/// One padding with the box margin of `options` (see `pad_to_box()`).
+inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const Padding_options& options)
+{
+#ifndef CGAL_BUBBLE_MESH_3_PADDING_USES_TETGEN
+  (void)domain;
+  (void)options;
+  throw Invalid_input("exterior padding needs TetGen until the advancing front pads "
+                      "(build with BUBBLE_MESH_3_HAS_TETGEN and link -ltet)");
+#else
+  const std::size_t n = domain.points.size();
+  if (n == 0 || domain.tets.empty()) throw Invalid_input("exterior padding: empty domain mesh");
+  for (const auto& t : domain.tets)
+    for (int v : t)
+      if (v < 0 || static_cast<std::size_t>(v) >= n) throw Invalid_input("exterior padding: vertex index out of range");
+
+  Padded_tet_mesh_3 result;
+  result.mesh = domain;
+  result.number_of_domain_points = n;
+  result.number_of_domain_tets = domain.tets.size();
+  if (result.mesh.tet_refs.size() != domain.tets.size()) result.mesh.tet_refs.resize(domain.tets.size(), 1);
+
+  padding_box(domain, options, result);
 
   // 2. the PLC: boundary vertices (renumbered), the 8 box corners, the
   //    boundary triangles and the 6 box quads
@@ -185,33 +290,7 @@ inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const
     in.facetmarkerlist[f] = is_box ? 2 : 1;
   }
 
-  // 3. one hole point per face-connected component of domain tets
-  std::vector<int> parent(domain.tets.size());
-  for (std::size_t t = 0; t < parent.size(); ++t) parent[t] = static_cast<int>(t);
-  auto find = [&parent](int t) {
-    while (parent[t] != t) t = parent[t] = parent[parent[t]];
-    return t;
-  };
-  {
-    std::map<std::array<int, 3>, int> face_tet;
-    for (std::size_t t = 0; t < domain.tets.size(); ++t)
-      for (int skip = 0; skip < 4; ++skip) {
-        std::array<int, 3> key;
-        for (int k = 0, j = 0; k < 4; ++k)
-          if (k != skip) key[j++] = domain.tets[t][k];
-        std::sort(key.begin(), key.end());
-        auto it = face_tet.emplace(key, static_cast<int>(t));
-        if (!it.second) parent[find(static_cast<int>(t))] = find(it.first->second);
-      }
-  }
-  std::vector<std::array<double, 3>> holes;
-  for (std::size_t t = 0; t < domain.tets.size(); ++t)
-    if (find(static_cast<int>(t)) == static_cast<int>(t)) {
-      std::array<double, 3> c{0, 0, 0};
-      for (int v : domain.tets[t])
-        for (int k = 0; k < 3; ++k) c[k] += 0.25 * domain.points[v][k];
-      holes.push_back(c);
-    }
+  const std::vector<std::array<double, 3>> holes = one_point_in_each_component(domain);
   in.numberofholes = static_cast<int>(holes.size());
   in.holelist = new REAL[3 * holes.size()];
   for (std::size_t h = 0; h < holes.size(); ++h)
@@ -240,55 +319,10 @@ inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const
     if (!tetrahedralize_isolated("pYMzQ", in, out, error))
       throw Meshing_failure("exterior padding: TetGen failed on the domain boundary (" + error + ")");
   }
-  const int number_of_points = static_cast<int>(out.points.size() / 3);
 
-  // 6. map back: input points keep their ids, Steiner points are appended
-  //    when used; orientation is made positive (exact test)
-  std::vector<int> padded_of(static_cast<std::size_t>(number_of_points), -1);
-  for (int i = 0; i < nb; ++i) padded_of[i] = domain_of[i];
-  for (int c = 0; c < 8; ++c) padded_of[nb + c] = first_box_id + c;
-  std::vector<Point> pts;
-  pts.reserve(result.mesh.points.size());
-  for (const auto& p : result.mesh.points) pts.emplace_back(p[0], p[1], p[2]);
-  for (std::size_t t = 0; 4 * t + 3 < out.tets.size(); ++t) {
-    std::array<int, 4> tet;
-    for (int k = 0; k < 4; ++k) {
-      const int o = out.tets[4 * t + static_cast<std::size_t>(k)];
-      if (o < 0 || o >= number_of_points) throw Meshing_failure("exterior padding: bad TetGen vertex id");
-      if (padded_of[o] < 0) {
-        padded_of[o] = static_cast<int>(result.mesh.points.size());
-        result.mesh.points.push_back({out.points[3 * o], out.points[3 * o + 1], out.points[3 * o + 2]});
-        pts.emplace_back(out.points[3 * o], out.points[3 * o + 1], out.points[3 * o + 2]);
-        ++result.number_of_steiner_points;
-      }
-      tet[k] = padded_of[o];
-    }
-    switch (CGAL::orientation(pts[tet[0]], pts[tet[1]], pts[tet[2]], pts[tet[3]])) {
-    case CGAL::NEGATIVE: std::swap(tet[2], tet[3]); break;
-    case CGAL::POSITIVE: break;
-    default: throw Meshing_failure("exterior padding: TetGen returned a flat tet");
-    }
-    result.mesh.tets.push_back(tet);
-    result.mesh.tet_refs.push_back(0);
-  }
-  result.mesh.point_refs.resize(result.mesh.points.size(), 0);
+  const auto pts = append_tetgen_tets(out, domain_of, first_box_id, result);
 
-  // 7. TetGen's tets are used only if they tile the box exactly (positive,
-  //    checked above, and their boundary chain with the domain's tets is
-  //    made of faces on the box, each once: tet_boundary_chain.h), so that
-  //    a wrong result is caught here, not in CGAL's C3T3 builder
-  if (!boundary_chain(result.mesh.tets, result.box_triangles))
-    throw Meshing_failure("exterior padding: TetGen's exterior tets overlap the domain or each other");
-  for (const auto& f : result.box_triangles) {
-    bool on_box = false;
-    for (int k = 0; k < 3 && !on_box; ++k)
-      on_box = (pts[f[0]][k] == result.box_min[k] && pts[f[1]][k] == result.box_min[k] &&
-                pts[f[2]][k] == result.box_min[k]) ||
-               (pts[f[0]][k] == result.box_max[k] && pts[f[1]][k] == result.box_max[k] &&
-                pts[f[2]][k] == result.box_max[k]);
-    if (!on_box)
-      throw Meshing_failure("exterior padding: TetGen's exterior tets do not match the domain boundary");
-  }
+  check_padding_tiles_box(pts, result);
   return result;
 #endif
 }

@@ -734,22 +734,67 @@ private:
   /// of the ball increases.
   bool smooth_vertex(int v)
   {
-    const std::vector<int> ball = m_.vertex_tets[std::size_t(v)];
-    const std::size_t nb = ball.size();
-    if(nb == 0)
+    Smoothing_ball b;
+    if(!prepare_smoothing(v, b))
       return false;
-    const Vertex_constraint& constraint = m_.constraint[std::size_t(v)];
-    const bool constrained = constraint.kind != Vertex_constraint::free;
-    // opposite faces with (v, f0, f1, f2) positively oriented, worst first
-    // (passive tets, of quality +infinity, last)
-    struct Ball_face {
-      double quality;
-      std::array<int, 3> f;
-      bool passive;
-    };
-    std::vector<Ball_face> faces;
-    faces.reserve(nb);
-    for(int s : ball) {
+    if(!move_to_ideal_position(b)) // a degenerate face in the ball
+      return false;
+    ascend(b);
+    const std::size_t sliver_move = push_off_sliver(b);
+    if(!(b.current > b.start + Smoothing_ball::minimum_gain) || b.x == b.x_start)
+      return false;
+    if(!apply_move(b))
+      return false;
+    c_.sliver_moves += sliver_move;
+    return true;
+  }
+
+  /// An opposite face of a ball, with (v, f0, f1, f2) positively oriented.
+  struct Ball_face {
+    double quality;
+    std::array<int, 3> f;
+    bool passive;
+  };
+
+  /// One smoothing attempt of a vertex: its ball, the metric at its start,
+  /// the constraint's tangent space, the bounds of a boundary move, and the
+  /// best position so far.
+  struct Smoothing_ball {
+    static constexpr double minimum_gain = 1e-3; // degrees: no churn of negligible moves
+    int v = -1;
+    std::vector<int> ball;
+    std::vector<Ball_face> faces; // worst first; passive tets (quality +infinity) last
+    const Vertex_constraint* constraint = nullptr;
+    bool constrained = false, on_curve = false, on_surface = false;
+    double start = 0; // the ball's smallest quality before the move
+    Eigen::Vector3d x_start;
+    Metric_3 metric;
+    Eigen::Matrix3d Q, Q_inverse;
+    double scale = 0; // shortest metric edge at v
+    // the tangent space of a constrained vertex, orthonormal in y = Q x
+    int tangent_dimension = 3;
+    Eigen::Vector3d tangent[2];
+    // surface vertices: the protected faces at v (outward from their tet)
+    // and their normals now, to bound how far each one turns
+    std::vector<std::pair<std::array<int, 2>, Eigen::Vector3d>> surface_faces;
+    std::vector<std::pair<int, Metric_3>> conforming; // neighbours joined by an edge in range
+    double cos_turn = 1;
+    Eigen::Vector3d x; // the best position so far, of quality `current`
+    double current = 0;
+  };
+
+  /// the ball of `v`, its faces, metric, tangent space and boundary bounds;
+  /// false if `v` cannot move (no ball, a passive worst tet, degenerate)
+  bool prepare_smoothing(int v, Smoothing_ball& b) const
+  {
+    b.v = v;
+    b.ball = m_.vertex_tets[std::size_t(v)];
+    if(b.ball.empty())
+      return false;
+    b.constraint = &m_.constraint[std::size_t(v)];
+    b.constrained = b.constraint->kind != Vertex_constraint::free;
+    b.faces.reserve(b.ball.size());
+    for(int s : b.ball) {
       const Tet& T = m_.tets[std::size_t(s)];
       std::array<int, 3> f;
       int k = 0;
@@ -758,208 +803,227 @@ private:
           f[std::size_t(k++)] = u;
       if(permutation_parity(T, v, f[0], f[1], f[2]) != 0)
         std::swap(f[1], f[2]);
-      faces.push_back({q_[std::size_t(s)], f, m_.is_passive(s)});
+      b.faces.push_back({q_[std::size_t(s)], f, m_.is_passive(s)});
     }
-    std::stable_sort(faces.begin(), faces.end(),
+    std::stable_sort(b.faces.begin(), b.faces.end(),
                      [](const Ball_face& x, const Ball_face& y) { return x.quality < y.quality; });
-    if(faces.front().passive)
+    if(b.faces.front().passive)
       return false;
-    const double start = faces.front().quality;
-
-    // smallest quality of the ball with v at x (+infinity from a passive
-    // tet if positive); stops early at <= threshold
-    auto evaluate = [&](const Eigen::Vector3d& x, double threshold) {
-      double w = std::numeric_limits<double>::infinity();
-      for(const Ball_face& f : faces) {
-        double q;
-        if(f.passive)
-          q = exact_orientation(x, P(f.f[0]), P(f.f[1]), P(f.f[2])) == CGAL::POSITIVE
-                  ? std::numeric_limits<double>::infinity()
-                  : -1.0;
-        else
-          q = quality_(x, P(f.f[0]), P(f.f[1]), P(f.f[2]));
-        w = std::min(w, q);
-        if(w <= threshold)
-          return w;
-      }
-      return w;
-    };
-
-    const Eigen::Vector3d x_start = P(v);
-    const Metric_3 metric = quality_.metric_at(x_start);
-    const Eigen::Matrix3d& Q = metric.Q();
-    const Eigen::Matrix3d Q_inverse = metric.Q_inverse();
-    double scale = std::numeric_limits<double>::infinity(); // shortest metric edge at v
-    for(const Ball_face& f : faces)
+    b.start = b.faces.front().quality;
+    b.x_start = P(v);
+    b.metric = quality_.metric_at(b.x_start);
+    b.Q = b.metric.Q();
+    b.Q_inverse = b.metric.Q_inverse();
+    b.scale = std::numeric_limits<double>::infinity();
+    for(const Ball_face& f : b.faces)
       for(int u : f.f)
-        scale = std::min(scale, metric.length(P(u) - x_start));
-    if(!(scale > 0 && std::isfinite(scale)))
+        b.scale = std::min(b.scale, b.metric.length(P(u) - b.x_start));
+    if(!(b.scale > 0 && std::isfinite(b.scale)))
       return false;
-    const double minimum_gain = 1e-3; // degrees: no churn of negligible moves
-
-    // the tangent space of a constrained vertex, orthonormal in y = Q x
-    int tangent_dimension = 3;
-    Eigen::Vector3d tangent[2];
     // curved patches and curved feature curves change the boundary: the same bounds on the move
-    const bool on_curve = constraint.kind == Vertex_constraint::curve;
-    const bool on_surface = constraint.kind == Vertex_constraint::surface || on_curve;
+    b.on_curve = b.constraint->kind == Vertex_constraint::curve;
+    b.on_surface = b.constraint->kind == Vertex_constraint::surface || b.on_curve;
     Eigen::Vector3d surface_tangent[2];
-    // surface vertices: the protected faces at v (outward from their tet) and
-    // their normals now, to bound how far each one turns
-    std::vector<std::pair<std::array<int, 2>, Eigen::Vector3d>> surface_faces;
-    if(on_surface) {
-      const Eigen::Vector3d normal = m_.boundary_normal(v);
-      if(!on_curve && !(normal.norm() > 0))
-        return false;
-      const Eigen::Vector3d axis = on_curve ? constraint.axis : normal.normalized();
-      surface_tangent[0] = on_curve ? constraint.axis : axis.unitOrthogonal();
-      surface_tangent[1] = axis.cross(surface_tangent[0]);
-      for(const Ball_face& f : faces) {
-        if(f.passive)
-          continue;
-        // the faces of the tet at v: (v, f_k+1, f_k+2) opposite f_k
-        for(int k = 0; k < 3; ++k) {
-          const int a = f.f[std::size_t((k + 1) % 3)], b = f.f[std::size_t((k + 2) % 3)];
-          if(!m_.protected_faces.count(Face_key(v, a, b)))
-            continue;
-          Eigen::Vector3d n = (P(a) - x_start).cross(P(b) - x_start);
-          if(n.dot(P(f.f[std::size_t(k)]) - x_start) > 0) // point away from the tet's fourth vertex
-            surface_faces.push_back({{{b, a}}, -n});
-          else
-            surface_faces.push_back({{{a, b}}, n});
-        }
-      }
-      if(surface_faces.empty())
-        return false;
-    }
-    if(constrained) {
-      tangent_dimension = (constraint.kind == Vertex_constraint::plane || (on_surface && !on_curve)) ? 2 : 1;
-      for(int i = 0; i < tangent_dimension; ++i) {
-        Eigen::Vector3d e = Q * (on_surface ? surface_tangent[i] : constraint.tangent[i]);
+    if(b.on_surface && !collect_surface_faces(b, surface_tangent))
+      return false;
+    if(b.constrained) {
+      b.tangent_dimension =
+          (b.constraint->kind == Vertex_constraint::plane || (b.on_surface && !b.on_curve)) ? 2 : 1;
+      for(int i = 0; i < b.tangent_dimension; ++i) {
+        Eigen::Vector3d e = b.Q * (b.on_surface ? surface_tangent[i] : b.constraint->tangent[i]);
         for(int j = 0; j < i; ++j)
-          e -= e.dot(tangent[j]) * tangent[j];
-        tangent[i] = e.normalized();
+          e -= e.dot(b.tangent[j]) * b.tangent[j];
+        b.tangent[i] = e.normalized();
       }
     }
-    auto tangential = [&](const Eigen::Vector3d& g) -> Eigen::Vector3d {
-      if(!constrained)
-        return g;
-      Eigen::Vector3d r = Eigen::Vector3d::Zero();
-      for(int i = 0; i < tangent_dimension; ++i)
-        r += g.dot(tangent[i]) * tangent[i];
-      return r;
-    };
-    auto project = [&](const Eigen::Vector3d& x) { return constrained ? m_.project(v, x) : x; };
-
-    Eigen::Vector3d x = x_start;
-    double current = start;
+    b.x = b.x_start;
+    b.current = b.start;
     // A surface vertex changes the boundary: it stays within half its
     // shortest metric edge of where it started, no boundary face at it turns
     // by more than 20 degrees (the faces stay close to the surface), and no
     // edge at it leaves [1/sqrt 2, sqrt 2] in the metric (edge length: the
     // mean of its lengths in the two end metrics). Without the last rule the
     // elephant's boundary layer lost 1 % of its edges in range.
-    const double cos_turn = cos_of_largest_boundary_turn();
-    std::vector<std::pair<int, Metric_3>> conforming; // neighbours joined by an edge in range
-    if(on_surface) {
-      std::vector<int> neighbours;
-      for(const Ball_face& f : faces)
-        neighbours.insert(neighbours.end(), f.f.begin(), f.f.end());
-      std::sort(neighbours.begin(), neighbours.end());
-      neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
-      for(int u : neighbours) {
-        Metric_3 mu = quality_.metric_at(P(u));
-        const double l = 0.5 * (metric.length(P(u) - x_start) + mu.length(P(u) - x_start));
-        if(l >= std::sqrt(0.5) && l <= std::sqrt(2.0))
-          conforming.push_back({u, std::move(mu)});
-      }
-    }
-    auto surface_move_ok = [&](const Eigen::Vector3d& candidate) {
-      if(!(metric.length(candidate - x_start) <= 0.5 * scale))
-        return false;
-      for(const auto& sf : surface_faces) {
-        const Eigen::Vector3d n = (P(sf.first[0]) - candidate).cross(P(sf.first[1]) - candidate);
-        if(!(n.dot(sf.second) > cos_turn * n.norm() * sf.second.norm()))
-          return false;
-      }
-      if(!conforming.empty()) {
-        const Metric_3 mc = quality_.metric_at(candidate);
-        for(const auto& c : conforming) {
-          const Eigen::Vector3d d = P(c.first) - candidate;
-          const double l = 0.5 * (mc.length(d) + c.second.length(d));
-          if(!(l >= std::sqrt(0.5) && l <= std::sqrt(2.0)))
-            return false;
-        }
-      }
-      return true;
-    };
-    auto try_candidate = [&](const Eigen::Vector3d& raw) {
-      const Eigen::Vector3d candidate = project(raw);
-      if(candidate == x || !candidate.allFinite())
-        return false;
-      if(on_surface && !surface_move_ok(candidate))
-        return false;
-      const double w = evaluate(candidate, current + minimum_gain);
-      if(w > current + minimum_gain) {
-        current = w;
-        x = candidate;
-        return true;
-      }
+    b.cos_turn = cos_of_largest_boundary_turn();
+    if(b.on_surface)
+      collect_conforming_edges(b);
+    return true;
+  }
+
+  /// the boundary faces at a surface or curve vertex and its tangent plane
+  /// or line; false if it has none
+  bool collect_surface_faces(Smoothing_ball& b, Eigen::Vector3d (&surface_tangent)[2]) const
+  {
+    const int v = b.v;
+    const Eigen::Vector3d normal = m_.boundary_normal(v);
+    if(!b.on_curve && !(normal.norm() > 0))
       return false;
-    };
-
-    // 1. the mean of the ideal apex positions (regular tet on each face)
-    {
-      const Eigen::Vector3d y_v = Q * x_start;
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      std::size_t count = 0;
-      for(const Ball_face& f : faces) {
-        if(f.passive)
+    const Eigen::Vector3d axis = b.on_curve ? b.constraint->axis : normal.normalized();
+    surface_tangent[0] = b.on_curve ? b.constraint->axis : axis.unitOrthogonal();
+    surface_tangent[1] = axis.cross(surface_tangent[0]);
+    for(const Ball_face& f : b.faces) {
+      if(f.passive)
+        continue;
+      // the faces of the tet at v: (v, f_k+1, f_k+2) opposite f_k
+      for(int k = 0; k < 3; ++k) {
+        const int a = f.f[std::size_t((k + 1) % 3)], c = f.f[std::size_t((k + 2) % 3)];
+        if(!m_.protected_faces.count(Face_key(v, a, c)))
           continue;
-        const Eigen::Vector3d y0 = Q * P(f.f[0]), y1 = Q * P(f.f[1]), y2 = Q * P(f.f[2]);
-        const Eigen::Vector3d c = (y0 + y1 + y2) / 3;
-        Eigen::Vector3d normal = (y1 - y0).cross(y2 - y0);
-        const double norm = normal.norm();
-        if(!(norm > 0))
-          return false;
-        normal /= norm;
-        if(normal.dot(y_v - c) < 0)
-          normal = -normal;
-        const double side = ((y1 - y0).norm() + (y2 - y1).norm() + (y0 - y2).norm()) / 3;
-        sum += c + std::sqrt(2.0 / 3.0) * side * normal;
-        ++count;
+        Eigen::Vector3d n = (P(a) - b.x_start).cross(P(c) - b.x_start);
+        if(n.dot(P(f.f[std::size_t(k)]) - b.x_start) > 0) // point away from the tet's fourth vertex
+          b.surface_faces.push_back({{{c, a}}, -n});
+        else
+          b.surface_faces.push_back({{{a, c}}, n});
       }
-      const Eigen::Vector3d ideal = Q_inverse * (sum / double(std::max<std::size_t>(count, 1)));
-      for(double omega : {1.0, 0.5, 0.25})
-        try_candidate(x_start + omega * (ideal - x_start));
     }
+    return !b.surface_faces.empty();
+  }
 
-    // 2. steepest ascent of the smallest quality
+  /// the neighbours of a surface vertex joined by an edge in range, whose
+  /// edges a move must keep in range
+  void collect_conforming_edges(Smoothing_ball& b) const
+  {
+    std::vector<int> neighbours;
+    for(const Ball_face& f : b.faces)
+      neighbours.insert(neighbours.end(), f.f.begin(), f.f.end());
+    std::sort(neighbours.begin(), neighbours.end());
+    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+    for(int u : neighbours) {
+      Metric_3 mu = quality_.metric_at(P(u));
+      const double l = 0.5 * (b.metric.length(P(u) - b.x_start) + mu.length(P(u) - b.x_start));
+      if(l >= std::sqrt(0.5) && l <= std::sqrt(2.0))
+        b.conforming.push_back({u, std::move(mu)});
+    }
+  }
+
+  /// smallest quality of the ball with its vertex at x (+infinity from a
+  /// passive tet if positive); stops early at <= threshold
+  double ball_quality(const Smoothing_ball& b, const Eigen::Vector3d& x, double threshold) const
+  {
+    double w = std::numeric_limits<double>::infinity();
+    for(const Ball_face& f : b.faces) {
+      double q;
+      if(f.passive)
+        q = exact_orientation(x, P(f.f[0]), P(f.f[1]), P(f.f[2])) == CGAL::POSITIVE
+                ? std::numeric_limits<double>::infinity()
+                : -1.0;
+      else
+        q = quality_(x, P(f.f[0]), P(f.f[1]), P(f.f[2]));
+      w = std::min(w, q);
+      if(w <= threshold)
+        return w;
+    }
+    return w;
+  }
+
+  /// g (in y = Q x) projected on the tangent space of the vertex's constraint
+  static Eigen::Vector3d tangential(const Smoothing_ball& b, const Eigen::Vector3d& g)
+  {
+    if(!b.constrained)
+      return g;
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    for(int i = 0; i < b.tangent_dimension; ++i)
+      r += g.dot(b.tangent[i]) * b.tangent[i];
+    return r;
+  }
+
+  /// whether a surface vertex may move to `candidate` (see prepare_smoothing())
+  bool surface_move_ok(const Smoothing_ball& b, const Eigen::Vector3d& candidate) const
+  {
+    if(!(b.metric.length(candidate - b.x_start) <= 0.5 * b.scale))
+      return false;
+    for(const auto& sf : b.surface_faces) {
+      const Eigen::Vector3d n = (P(sf.first[0]) - candidate).cross(P(sf.first[1]) - candidate);
+      if(!(n.dot(sf.second) > b.cos_turn * n.norm() * sf.second.norm()))
+        return false;
+    }
+    if(!b.conforming.empty()) {
+      const Metric_3 mc = quality_.metric_at(candidate);
+      for(const auto& c : b.conforming) {
+        const Eigen::Vector3d d = P(c.first) - candidate;
+        const double l = 0.5 * (mc.length(d) + c.second.length(d));
+        if(!(l >= std::sqrt(0.5) && l <= std::sqrt(2.0)))
+          return false;
+      }
+    }
+    return true;
+  }
+
+  /// takes `raw` (projected on the constraint) as the best position if it
+  /// raises the ball's smallest quality by the minimum gain
+  bool try_candidate(Smoothing_ball& b, const Eigen::Vector3d& raw) const
+  {
+    const Eigen::Vector3d candidate = b.constrained ? m_.project(b.v, raw) : raw;
+    if(candidate == b.x || !candidate.allFinite())
+      return false;
+    if(b.on_surface && !surface_move_ok(b, candidate))
+      return false;
+    const double w = ball_quality(b, candidate, b.current + Smoothing_ball::minimum_gain);
+    if(w > b.current + Smoothing_ball::minimum_gain) {
+      b.current = w;
+      b.x = candidate;
+      return true;
+    }
+    return false;
+  }
+
+  /// 1. the mean of the ideal apex positions (regular tet on each face),
+  /// relaxed; false if a face of the ball is degenerate
+  bool move_to_ideal_position(Smoothing_ball& b) const
+  {
+    const Eigen::Vector3d y_v = b.Q * b.x_start;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    std::size_t count = 0;
+    for(const Ball_face& f : b.faces) {
+      if(f.passive)
+        continue;
+      const Eigen::Vector3d y0 = b.Q * P(f.f[0]), y1 = b.Q * P(f.f[1]), y2 = b.Q * P(f.f[2]);
+      const Eigen::Vector3d c = (y0 + y1 + y2) / 3;
+      Eigen::Vector3d normal = (y1 - y0).cross(y2 - y0);
+      const double norm = normal.norm();
+      if(!(norm > 0))
+        return false;
+      normal /= norm;
+      if(normal.dot(y_v - c) < 0)
+        normal = -normal;
+      const double side = ((y1 - y0).norm() + (y2 - y1).norm() + (y0 - y2).norm()) / 3;
+      sum += c + std::sqrt(2.0 / 3.0) * side * normal;
+      ++count;
+    }
+    const Eigen::Vector3d ideal = b.Q_inverse * (sum / double(std::max<std::size_t>(count, 1)));
+    for(double omega : {1.0, 0.5, 0.25})
+      try_candidate(b, b.x_start + omega * (ideal - b.x_start));
+    return true;
+  }
+
+  /// 2. steepest ascent of the smallest quality
+  void ascend(Smoothing_ball& b) const
+  {
     std::vector<Eigen::Vector3d> gradients;
     for(int iteration = 0; iteration < s_.smoothing_iterations; ++iteration) {
       // qualities at x, and the nearly active tets
       std::vector<std::pair<double, std::size_t>> values;
-      for(std::size_t i = 0; i < faces.size(); ++i) {
-        if(faces[i].passive)
+      for(std::size_t i = 0; i < b.faces.size(); ++i) {
+        if(b.faces[i].passive)
           continue;
-        const auto& f = faces[i].f;
-        values.push_back({quality_(x, P(f[0]), P(f[1]), P(f[2])), i});
+        const auto& f = b.faces[i].f;
+        values.push_back({quality_(b.x, P(f[0]), P(f[1]), P(f[2])), i});
       }
       std::sort(values.begin(), values.end());
       gradients.clear();
-      const double h = 1e-5 * scale;
+      const double h = 1e-5 * b.scale;
       for(const auto& value : values) {
         if(value.first > values.front().first + 1.0 || gradients.size() >= 8)
           break;
-        const auto& f = faces[value.second].f;
+        const auto& f = b.faces[value.second].f;
         Eigen::Vector3d g;
         for(int axis = 0; axis < 3; ++axis) {
-          const Eigen::Vector3d step = Q_inverse.col(axis) * h;
-          const double plus = quality_.unchecked(x + step, P(f[0]), P(f[1]), P(f[2]));
-          const double minus = quality_.unchecked(x - step, P(f[0]), P(f[1]), P(f[2]));
+          const Eigen::Vector3d step = b.Q_inverse.col(axis) * h;
+          const double plus = quality_.unchecked(b.x + step, P(f[0]), P(f[1]), P(f[2]));
+          const double minus = quality_.unchecked(b.x - step, P(f[0]), P(f[1]), P(f[2]));
           g[axis] = (plus - minus) / (2 * h);
         }
-        gradients.push_back(tangential(g));
+        gradients.push_back(tangential(b, g));
       }
       if(gradients.empty())
         break;
@@ -967,72 +1031,80 @@ private:
       const double d_norm = d.norm();
       if(!(d_norm > 1e-12) || !std::isfinite(d_norm))
         break;
-      const Eigen::Vector3d direction = Q_inverse * (d / d_norm);
+      const Eigen::Vector3d direction = b.Q_inverse * (d / d_norm);
       bool moved = false;
-      for(double step = 0.25 * scale; step > 1e-4 * scale && !moved; step *= 0.5)
-        moved = try_candidate(x + step * direction);
+      for(double step = 0.25 * b.scale; step > 1e-4 * b.scale && !moved; step *= 0.5)
+        moved = try_candidate(b, b.x + step * direction);
       if(!moved)
         break;
     }
+  }
 
-    // 3. a sliver that smoothing could not fix: push v off its opposite
-    //    face, then random trial moves (seeded by the vertex and the clock)
+  /// 3. a sliver that smoothing could not fix: push the vertex off its
+  /// opposite face, then random trial moves (seeded by the vertex and the
+  /// clock); 1 if one of them was taken
+  std::size_t push_off_sliver(Smoothing_ball& b) const
+  {
     std::size_t sliver_move = 0;
-    if(s_.sliver_moves && !(current > start + minimum_gain)) {
-      const auto& f = faces.front().f;
-      if(quality_.is_sliver(x_start, P(f[0]), P(f[1]), P(f[2]))) {
-        const Eigen::Vector3d y0 = Q * P(f[0]), y1 = Q * P(f[1]), y2 = Q * P(f[2]);
-        Eigen::Vector3d normal = tangential((y1 - y0).cross(y2 - y0));
-        if(normal.norm() > 0) {
-          normal.normalize();
-          if(normal.dot(Q * x_start - y0) < 0)
-            normal = -normal;
-          const Eigen::Vector3d direction = Q_inverse * normal;
-          for(double step = 0.3 * scale; step > 0.01 * scale; step *= 0.5)
-            if(try_candidate(x_start + step * direction)) {
-              sliver_move = 1;
-              break;
-            }
+    if(!(s_.sliver_moves && !(b.current > b.start + Smoothing_ball::minimum_gain)))
+      return 0;
+    const auto& f = b.faces.front().f;
+    if(!quality_.is_sliver(b.x_start, P(f[0]), P(f[1]), P(f[2])))
+      return 0;
+    const Eigen::Vector3d y0 = b.Q * P(f[0]), y1 = b.Q * P(f[1]), y2 = b.Q * P(f[2]);
+    Eigen::Vector3d normal = tangential(b, (y1 - y0).cross(y2 - y0));
+    if(normal.norm() > 0) {
+      normal.normalize();
+      if(normal.dot(b.Q * b.x_start - y0) < 0)
+        normal = -normal;
+      const Eigen::Vector3d direction = b.Q_inverse * normal;
+      for(double step = 0.3 * b.scale; step > 0.01 * b.scale; step *= 0.5)
+        if(try_candidate(b, b.x_start + step * direction)) {
+          sliver_move = 1;
+          break;
         }
-        std::mt19937 random(s_.random_seed * 2654435761u ^ unsigned(v) * 40503u ^ unsigned(clock_));
-        std::normal_distribution<double> gauss;
-        std::uniform_real_distribution<double> radius(0.02, 0.2);
-        for(int trial = 0; trial < s_.perturbation_trials; ++trial) {
-          Eigen::Vector3d r(gauss(random), gauss(random), gauss(random));
-          r = tangential(r);
-          if(!(r.norm() > 0))
-            continue;
-          if(try_candidate(x + radius(random) * scale * (Q_inverse * r.normalized())))
-            sliver_move = 1;
-        }
-      }
     }
+    std::mt19937 random(s_.random_seed * 2654435761u ^ unsigned(b.v) * 40503u ^ unsigned(clock_));
+    std::normal_distribution<double> gauss;
+    std::uniform_real_distribution<double> radius(0.02, 0.2);
+    for(int trial = 0; trial < s_.perturbation_trials; ++trial) {
+      Eigen::Vector3d r(gauss(random), gauss(random), gauss(random));
+      r = tangential(b, r);
+      if(!(r.norm() > 0))
+        continue;
+      if(try_candidate(b, b.x + radius(random) * b.scale * (b.Q_inverse * r.normalized())))
+        sliver_move = 1;
+    }
+    return sliver_move;
+  }
 
-    if(!(current > start + minimum_gain) || x == x_start)
-      return false;
-    if(on_surface && grid_) {
+  /// moves the vertex to the best position (a boundary one only if the
+  /// boundary stays embedded) and updates the ball's qualities and counters
+  bool apply_move(const Smoothing_ball& b)
+  {
+    const int v = b.v;
+    if(b.on_surface && grid_) {
       std::vector<std::array<int, 3>> fan;
-      for(const auto& sf : surface_faces)
+      for(const auto& sf : b.surface_faces)
         fan.push_back({{v, sf.first[0], sf.first[1]}});
-      if(!boundary_stays_embedded(fan, fan, v, x))
+      if(!boundary_stays_embedded(fan, fan, v, b.x))
         return false;
-      m_.points[std::size_t(v)] = x;
+      m_.points[std::size_t(v)] = b.x;
       for(const auto& f : fan)
         index_face(f[0], f[1], f[2]);
     }
-    m_.points[std::size_t(v)] = x;
+    m_.points[std::size_t(v)] = b.x;
     ++clock_;
-    for(int s : ball)
+    for(int s : b.ball)
       for(int u : m_.tets[std::size_t(s)])
         vertex_changed_[std::size_t(u)] = clock_;
-    for(int s : ball) {
+    for(int s : b.ball) {
       q_[std::size_t(s)] = tet_quality(s);
       ++m_.stamp[std::size_t(s)];
     }
     ++c_.smoothing_moves;
-    if(constrained)
+    if(b.constrained)
       ++c_.boundary_moves;
-    c_.sliver_moves += sliver_move;
     return true;
   }
 
@@ -1337,42 +1409,73 @@ private:
   /// between a and b, and it then slides along the curve.
   bool split_edge(int t, int a, int b)
   {
-    const bool feature = m_.is_feature_edge(a, b);
-    const int curve = feature ? m_.feature_edge_curve(a, b) : -1;
-    if(feature && (!m_.curve_projection || curve < 0))
+    Edge_split e;
+    if(!prepare_split(t, a, b, e) || !place_split_vertex(e))
       return false;
-    const bool boundary = m_.is_protected_edge(a, b);
-    if(feature && !boundary)
+    if(!(e.best > e.old_worst + 1.0))
       return false;
-    std::vector<int> ring, ring_tets;
-    if(boundary) {
-      if((!feature && !m_.surface_projection) || m_.has_duplicate_triangles ||
-         !m_.edge_fan(a, b, s_.maximum_ring_size - 1, ring, ring_tets))
-        return false;
-    } else if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring, ring_tets))
+    if(e.boundary && !boundary_stays_embedded({{{a, -1, e.ring.front()}}, {{-1, b, e.ring.front()}},
+                                               {{a, -1, e.ring.back()}}, {{-1, b, e.ring.back()}}},
+                                              {{{a, b, e.ring.front()}}, {{a, b, e.ring.back()}}}, -1, e.x))
       return false;
-    const int ref = m_.refs[std::size_t(t)];
+    apply_split(e);
+    return true;
+  }
+
+  /// A candidate split of the edge (a, b): the tets around it, what kind of
+  /// edge it is, and the new vertex's best position so far.
+  struct Edge_split {
+    int a = -1, b = -1;
+    bool feature = false, boundary = false;
+    int curve = -1, patch = 0, ref = 0;
+    std::vector<int> ring, ring_tets; // a boundary edge's ring is open (a fan)
     double old_worst = std::numeric_limits<double>::infinity();
-    for(int s : ring_tets) {
-      if(m_.refs[std::size_t(s)] != ref || m_.is_passive(s))
+    Eigen::Vector3d old_normals[2]; // of the two boundary faces at the edge, outward
+    std::vector<Tet> templates;     // the new tets, -1 standing for the new vertex
+    Eigen::Vector3d x;              // the new vertex, of worst quality `best`
+    double best = -std::numeric_limits<double>::infinity();
+  };
+
+  /// the ring of (a, b) and the new tets; false if the edge cannot be split
+  /// (a feature edge without a curve projection, a boundary edge between two
+  /// patches or at an interface, passive tets or several subdomains, ...)
+  bool prepare_split(int t, int a, int b, Edge_split& e) const
+  {
+    e.a = a;
+    e.b = b;
+    e.feature = m_.is_feature_edge(a, b);
+    e.curve = e.feature ? m_.feature_edge_curve(a, b) : -1;
+    if(e.feature && (!m_.curve_projection || e.curve < 0))
+      return false;
+    e.boundary = m_.is_protected_edge(a, b);
+    if(e.feature && !e.boundary)
+      return false;
+    std::vector<int>& ring = e.ring;
+    if(e.boundary) {
+      if((!e.feature && !m_.surface_projection) || m_.has_duplicate_triangles ||
+         !m_.edge_fan(a, b, s_.maximum_ring_size - 1, ring, e.ring_tets))
         return false;
-      old_worst = std::min(old_worst, q_[std::size_t(s)]);
+    } else if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring, e.ring_tets))
+      return false;
+    e.ref = m_.refs[std::size_t(t)];
+    for(int s : e.ring_tets) {
+      if(m_.refs[std::size_t(s)] != e.ref || m_.is_passive(s))
+        return false;
+      e.old_worst = std::min(e.old_worst, q_[std::size_t(s)]);
     }
     const int n = int(ring.size());
-    int patch = 0;
-    Eigen::Vector3d old_normals[2];
-    if(boundary) {
+    if(e.boundary) {
       const int p0 = ring.front(), pk = ring.back();
       if(!m_.is_protected_face(a, b, p0) || !m_.is_protected_face(a, b, pk) ||
          m_.listed_triangle(a, b, p0) < 0 || m_.listed_triangle(a, b, pk) < 0 ||
-         (!feature && m_.face_patch(a, b, p0) != m_.face_patch(a, b, pk)))
+         (!e.feature && m_.face_patch(a, b, p0) != m_.face_patch(a, b, pk)))
         return false;
       for(int i = 1; i + 1 < n; ++i)
         if(m_.is_protected_face(a, b, ring[std::size_t(i)]))
           return false;
-      if(m_.opposite_tet(ring_tets.front(), a, b, p0) >= 0 || m_.opposite_tet(ring_tets.back(), a, b, pk) >= 0)
+      if(m_.opposite_tet(e.ring_tets.front(), a, b, p0) >= 0 || m_.opposite_tet(e.ring_tets.back(), a, b, pk) >= 0)
         return false; // an interface
-      patch = m_.face_patch(a, b, p0);
+      e.patch = m_.face_patch(a, b, p0);
       // outward: away from the apex of the tet on each face
       const int apex[2] = {ring[1], ring[std::size_t(n - 2)]};
       const int ends[2] = {p0, pk};
@@ -1380,72 +1483,83 @@ private:
         Eigen::Vector3d normal = (P(b) - P(a)).cross(P(ends[k]) - P(a));
         if(normal.dot(P(apex[k]) - P(a)) > 0)
           normal = -normal;
-        old_normals[k] = normal;
+        e.old_normals[k] = normal;
       }
     }
-    // the new tets, -1 standing for the new vertex
-    std::vector<Tet> templates;
-    const int tets_around = boundary ? n - 1 : n;
+    const int tets_around = e.boundary ? n - 1 : n;
     for(int i = 0; i < tets_around; ++i) {
       const int p = ring[std::size_t(i)], q = ring[std::size_t((i + 1) % n)];
-      templates.push_back(Tet{{-1, b, p, q}});
-      templates.push_back(Tet{{a, -1, p, q}});
+      e.templates.push_back(Tet{{-1, b, p, q}});
+      e.templates.push_back(Tet{{a, -1, p, q}});
     }
-    auto point = [&](int v, const Eigen::Vector3d& x) -> const Eigen::Vector3d& { return v < 0 ? x : P(v); };
-    const double cos_turn = cos_of_largest_boundary_turn();
-    auto evaluate = [&](const Eigen::Vector3d& x, double threshold) {
-      if(boundary) {
-        const int ends[2] = {ring.front(), ring.back()};
-        for(int k = 0; k < 2; ++k)
-          for(int u : {a, b}) {
-            Eigen::Vector3d normal = (P(u) - x).cross(P(ends[k]) - x);
-            if(normal.dot(old_normals[k]) < 0)
-              normal = -normal; // orientation is checked by the tets
-            if(!(normal.dot(old_normals[k]) > cos_turn * normal.norm() * old_normals[k].norm()))
-              return -1.0;
-          }
-      }
-      double w = std::numeric_limits<double>::infinity();
-      for(const Tet& T : templates) {
-        w = std::min(w, quality_(point(T[0], x), point(T[1], x), point(T[2], x), point(T[3], x)));
-        if(w <= threshold)
-          return w;
-      }
-      return w;
-    };
-    auto on_surface = [&](const Eigen::Vector3d& x, Eigen::Vector3d& y) {
-      if(!boundary) {
-        y = x;
-        return true;
-      }
-      std::array<double, 3> closest;
-      if(feature) {
-        if(!m_.curve_projection(curve, {{x[0], x[1], x[2]}}, closest))
-          return false;
-        y = Eigen::Vector3d(closest[0], closest[1], closest[2]);
-        // strictly between a and b along their chord
-        const double s = (y - P(a)).dot(P(b) - P(a)) / (P(b) - P(a)).squaredNorm();
-        return s > 0.05 && s < 0.95;
-      }
-      if(!m_.surface_projection(patch, {{x[0], x[1], x[2]}}, closest))
+    return true;
+  }
+
+  /// the worst quality of the new tets with the new vertex at x (-1 if a new
+  /// boundary triangle turns too far); stops early at <= threshold
+  double split_quality(const Edge_split& e, const Eigen::Vector3d& x, double threshold) const
+  {
+    if(e.boundary) {
+      const double cos_turn = cos_of_largest_boundary_turn();
+      const int ends[2] = {e.ring.front(), e.ring.back()};
+      for(int k = 0; k < 2; ++k)
+        for(int u : {e.a, e.b}) {
+          Eigen::Vector3d normal = (P(u) - x).cross(P(ends[k]) - x);
+          if(normal.dot(e.old_normals[k]) < 0)
+            normal = -normal; // orientation is checked by the tets
+          if(!(normal.dot(e.old_normals[k]) > cos_turn * normal.norm() * e.old_normals[k].norm()))
+            return -1.0;
+        }
+    }
+    auto point = [&](int v) -> const Eigen::Vector3d& { return v < 0 ? x : P(v); };
+    double w = std::numeric_limits<double>::infinity();
+    for(const Tet& T : e.templates) {
+      w = std::min(w, quality_(point(T[0]), point(T[1]), point(T[2]), point(T[3])));
+      if(w <= threshold)
+        return w;
+    }
+    return w;
+  }
+
+  /// y: x on the input (its curve, strictly between a and b, or its patch's
+  /// surface) for a boundary edge, x itself for an interior one
+  bool split_point_on_input(const Edge_split& e, const Eigen::Vector3d& x, Eigen::Vector3d& y) const
+  {
+    if(!e.boundary) {
+      y = x;
+      return true;
+    }
+    std::array<double, 3> closest;
+    if(e.feature) {
+      if(!m_.curve_projection(e.curve, {{x[0], x[1], x[2]}}, closest))
         return false;
       y = Eigen::Vector3d(closest[0], closest[1], closest[2]);
-      return true;
-    };
-    const Eigen::Vector3d middle = 0.5 * (P(a) + P(b));
-    Eigen::Vector3d x;
-    if(!on_surface(middle, x))
+      // strictly between a and b along their chord
+      const double s = (y - P(e.a)).dot(P(e.b) - P(e.a)) / (P(e.b) - P(e.a)).squaredNorm();
+      return s > 0.05 && s < 0.95;
+    }
+    if(!m_.surface_projection(e.patch, {{x[0], x[1], x[2]}}, closest))
       return false;
-    double best = evaluate(x, -std::numeric_limits<double>::infinity());
-    // compass search in the metric's frame at the midpoint (tangent
-    // directions only on the surface)
+    y = Eigen::Vector3d(closest[0], closest[1], closest[2]);
+    return true;
+  }
+
+  /// the new vertex by a compass search from the midpoint, in the metric's
+  /// frame there (tangent directions only on the surface); false if the
+  /// midpoint has no place on the input
+  bool place_split_vertex(Edge_split& e) const
+  {
+    const Eigen::Vector3d middle = 0.5 * (P(e.a) + P(e.b));
+    if(!split_point_on_input(e, middle, e.x))
+      return false;
+    e.best = split_quality(e, e.x, -std::numeric_limits<double>::infinity());
     const Metric_3 metric = quality_.metric_at(middle);
     std::vector<Eigen::Vector3d> directions;
-    if(feature) {
-      directions.push_back(P(b) - P(a));
-      directions.push_back(P(a) - P(b));
-    } else if(boundary) {
-      const Eigen::Vector3d normal = (old_normals[0].normalized() + old_normals[1].normalized()).normalized();
+    if(e.feature) {
+      directions.push_back(P(e.b) - P(e.a));
+      directions.push_back(P(e.a) - P(e.b));
+    } else if(e.boundary) {
+      const Eigen::Vector3d normal = (e.old_normals[0].normalized() + e.old_normals[1].normalized()).normalized();
       const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
       for(int k = 0; k < 8; ++k) {
         const double angle = k * std::acos(-1.0) / 4;
@@ -1455,70 +1569,70 @@ private:
       for(int k = 0; k < 3; ++k)
         for(double sign : {-1.0, 1.0})
           directions.push_back(sign * (metric.Q_inverse() * Eigen::Vector3d::Unit(k)));
-    const double half = 0.5 * (P(b) - P(a)).norm();
+    const double half = 0.5 * (P(e.b) - P(e.a)).norm();
     for(Eigen::Vector3d& d : directions)
       d *= half / d.norm();
     for(double step = 0.5; step > 0.01;) {
       bool moved = false;
       for(const Eigen::Vector3d& d : directions) {
         Eigen::Vector3d y;
-        if(!on_surface(x + step * d, y))
+        if(!split_point_on_input(e, e.x + step * d, y))
           continue;
-        const double w = evaluate(y, best);
-        if(w > best) {
-          best = w;
-          x = y;
+        const double w = split_quality(e, y, e.best);
+        if(w > e.best) {
+          e.best = w;
+          e.x = y;
           moved = true;
         }
       }
       if(!moved)
         step *= 0.5;
     }
-    if(!(best > old_worst + 1.0))
-      return false;
-    if(boundary && !boundary_stays_embedded({{{a, -1, ring.front()}}, {{-1, b, ring.front()}}, {{a, -1, ring.back()}},
-                                             {{-1, b, ring.back()}}},
-                                            {{{a, b, ring.front()}}, {{a, b, ring.back()}}}, -1, x))
-      return false;
+    return true;
+  }
 
-    // apply
+  /// adds the new vertex (with its constraint) and its tets, splits the
+  /// boundary faces and the feature edge, updates qualities and counters
+  void apply_split(const Edge_split& e)
+  {
+    const int a = e.a, b = e.b;
     Vertex_constraint constraint;
-    if(feature) {
+    if(e.feature) {
       constraint.kind = Vertex_constraint::curve;
-      constraint.patch = curve;
-      constraint.origin = x;
+      constraint.patch = e.curve;
+      constraint.origin = e.x;
       constraint.axis = (P(b) - P(a)).normalized();
       constraint.tangent[0] = constraint.axis;
       constraint.ends[0] = a;
       constraint.ends[1] = b;
-    } else if(boundary) {
+    } else if(e.boundary) {
       constraint.kind = Vertex_constraint::surface;
-      constraint.patch = patch;
+      constraint.patch = e.patch;
     }
-    const int m = m_.add_vertex(x, constraint, boundary, feature ? curve : boundary ? patch : ref);
+    const int m = m_.add_vertex(e.x, constraint, e.boundary, e.feature ? e.curve : e.boundary ? e.patch : e.ref);
     vertex_tried_.push_back(-1);
     vertex_changed_.push_back(0);
     std::vector<Tet> new_tets;
-    for(Tet T : templates) {
+    for(Tet T : e.templates) {
       for(int& v : T)
         if(v < 0)
           v = m;
       new_tets.push_back(T);
     }
     ++clock_;
-    for(int s : ring_tets)
+    for(int s : e.ring_tets)
       for(int v : m_.tets[std::size_t(s)])
         vertex_changed_[std::size_t(v)] = clock_;
     vertex_changed_[std::size_t(m)] = clock_;
-    const std::vector<int> created = m_.replace(ring_tets, new_tets, ref);
-    if(boundary) {
-      m_.split_boundary_faces(a, b, m, ring.front(), ring.back());
-      for(int p : {ring.front(), ring.back()}) {
+    const std::vector<int> created = m_.replace(e.ring_tets, new_tets, e.ref);
+    if(e.boundary) {
+      m_.split_boundary_faces(a, b, m, e.ring.front(), e.ring.back());
+      for(int p : {e.ring.front(), e.ring.back()}) {
         index_face(a, m, p);
         index_face(m, b, p);
       }
     }
-    if(feature)
+    if(e.feature)
       m_.split_feature_edge(a, b, m);
     q_.resize(m_.tets.size());
     tet_tried_.resize(m_.tets.size(), -1);
@@ -1527,11 +1641,10 @@ private:
       q_[std::size_t(s)] = tet_quality(s);
     }
     ++c_.edge_splits;
-    if(boundary)
+    if(e.boundary)
       ++c_.boundary_edge_splits;
-    if(feature)
+    if(e.feature)
       ++c_.feature_edge_splits;
-    return true;
   }
 
   // ---- phases ----------------------------------------------------------------

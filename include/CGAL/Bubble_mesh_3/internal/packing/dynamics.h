@@ -33,6 +33,7 @@
 #ifndef CGAL_BUBBLE_MESH_3_INTERNAL_PACKING_DYNAMICS_H
 #define CGAL_BUBBLE_MESH_3_INTERNAL_PACKING_DYNAMICS_H
 
+#include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/internal/packing/bubble.h>
 #include <CGAL/Bubble_mesh_3/internal/packing/neighbour_search.h>
 #include <CGAL/Bubble_mesh_3/internal/packing/parallel.h>
@@ -43,6 +44,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -57,6 +59,7 @@ struct Relaxation_settings {
   double tolerance = 0.02;          // metric units per iteration
   double skin = 0.3;                // Verlet margin, in units of the bubble's largest size
   bool population_control = true;
+  std::function<bool()> should_stop; // polled every iteration; true: throw Interrupted
 };
 
 struct Relaxation_result {
@@ -135,6 +138,8 @@ public:
     bool stable = !settings_.population_control;
     int since_control = 0;
     while(result.iterations < settings_.maximum_iterations) {
+      if(settings_.should_stop && settings_.should_stop())
+        throw Interrupted("interrupted during the packing");
       const double max_disp = step();
       ++result.iterations;
       ++since_control;

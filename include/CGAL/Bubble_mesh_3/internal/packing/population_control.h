@@ -125,176 +125,178 @@ std::size_t delete_too_close(const std::vector<Bubble_record>& bubbles, const Ne
   return count;
 }
 
-/// The best gap next to each moving bubble. `Constraint` gives the probe
-/// directions (metric length 1, tangent to the bubble's entity) and places a
-/// new bubble on the entity (`place(record, point)`, false when impossible).
-template <typename Traits, typename Constraint, typename Refresh>
-std::size_t fill_gaps(std::vector<Bubble_record>& bubbles, const Neighbour_lists& lists, double list_reach,
-                      const Traits& traits,
-                      const Constraint& constraint, const Refresh& refresh, const Parallel_executor& exec,
-                      std::size_t moving, const std::vector<char>& dead, bool incremental)
+// Which bubbles fill_gaps() searches. Incremental search: a bubble is
+// searched again only when it, or a listed neighbour, moved more than `drift`
+// since its last search, was searched with a result, or lost a neighbour.
+// (Gaps open by motion or deletion.)
+inline std::vector<char> bubbles_to_search(const std::vector<Bubble_record>& bubbles, const Neighbour_lists& lists,
+                                           const Parallel_executor& exec, const std::vector<char>& dead,
+                                           bool incremental)
 {
   const std::size_t n = bubbles.size();
-  // Incremental search: a bubble is searched again only when it, or a listed
-  // neighbour, moved more than `drift` since its last search, was searched
-  // with a result, or lost a neighbour. (Gaps open by motion or deletion.)
   std::vector<char> search(n, 1);
-  if(incremental) {
-    const double drift = 0.05;
-    std::vector<char> changed(n, 0);
-    exec.for_each(n, [&](std::size_t i) {
-      const Bubble_record& b = bubbles[i];
-      changed[i] = dead[i] || (!b.fixed && (!b.gap_free || b.m.squared_length(b.x - b.probed_at) > drift * drift));
-    });
-    exec.for_each(n, [&](std::size_t i) {
-      if(bubbles[i].fixed || dead[i])
-        return;
-      char s = changed[i];
-      for(const int* j = lists.begin(i); j != lists.end(i) && !s; ++j)
-        s = changed[*j];
-      search[i] = s;
-    });
-  }
-  // the best candidate of each bubble, collected per block (deterministic)
-  struct Candidate {
-    int origin;
-    double score;
-    Bubble_record record;
-  };
-  const std::size_t nb = Parallel_executor::number_of_blocks(n);
-  std::vector<std::vector<Candidate>> found(nb);
-  exec.for_each_block(n, [&](std::size_t blk, std::size_t begin, std::size_t end) {
-    struct Near {
-      Vec3 y; // position in bi's metric frame, y = Q (x_j - x_i)
-      const Bubble_record* b;
-    };
-    std::vector<Near> near;
-    for(std::size_t ii = begin; ii < end; ++ii) {
-      const int i = static_cast<int>(ii);
-      Bubble_record& bi = bubbles[i];
-      if(bi.fixed || dead[i] || !search[i])
-        continue;
-      bi.gap_free = false;
-      bi.probed_at = bi.x;
-      const double threshold = traits.gap_insertion_threshold(bi.dimension);
-      const double r = traits.gap_probe_distance(bi.dimension);
-      const double refine_bound = 0.5 * threshold;
-      // a candidate farther from bi than this could be near an unlisted bubble
-      // (the lists hold every bubble within metric distance `list_reach`; 0.05
-      // is left for the difference of neighbouring metrics)
-      const double reach = std::min(1.1, list_reach - threshold - 0.05);
-      const Eigen::Matrix3d q = bi.m.cholesky_upper();
-      auto frame = [&](const Vec3& x) {
-        const Vec3 d = x - bi.x;
-        return Vec3(q(0, 0) * d[0] + q(0, 1) * d[1] + q(0, 2) * d[2], q(1, 1) * d[1] + q(1, 2) * d[2],
-                    q(2, 2) * d[2]);
-      };
-      // the bubbles that can be within the threshold of a candidate
-      const double keep2 = (reach + threshold + 0.05) * (reach + threshold + 0.05);
-      near.clear();
-      near.push_back(Near{Vec3::Zero(), &bi});
-      for(const int* j = lists.begin(i); j != lists.end(i); ++j)
-        if(!dead[*j]) {
-          const Vec3 y = frame(bubbles[*j].x);
-          if(y.squaredNorm() <= keep2)
-            near.push_back(Near{y, &bubbles[*j]});
-        }
-      // Search score of a point p: its metric distance, in bi's metric, to the
-      // nearest bubble (exact for a constant metric; it only guides the
-      // search). Any value below `bound` may be returned for a lower score.
-      auto search_score = [&](const Vec3& p, double bound, const Bubble_record*& nearest) {
-        const Vec3 y = frame(p);
-        double best2 = std::numeric_limits<double>::infinity();
-        const double bound2 = bound * bound;
-        nearest = &bi;
-        for(const Near& e : near) {
-          const double d2 = (e.y - y).squaredNorm();
-          if(d2 < best2) {
-            best2 = d2;
-            nearest = e.b;
-            if(best2 < bound2)
-              break;
-          }
-        }
-        return std::sqrt(best2);
-      };
-      // exact score: the normalized distance w to the nearest bubble
-      auto exact_score = [&](const Vec3& p, const Sym3& mp) {
-        double sc = std::numeric_limits<double>::infinity();
-        for(const Near& e : near)
-          sc = std::min(sc, normalized_distance_to(p, mp, *e.b));
-        return sc;
-      };
-      std::array<Vec3, 32> directions;
-      const int nd = constraint.probe_directions(bi, directions.data());
-      // the probes, best first; the three best are refined towards the centre
-      // of their hole (ascent of the distance to the nearest bubble)
-      std::array<std::pair<double, int>, 32> order;
-      std::array<const Bubble_record*, 32> nearest_of;
-      for(int k = 0; k < nd; ++k)
-        order[k] = std::make_pair(-search_score(bi.x + r * directions[k], refine_bound, nearest_of[k]), k);
-      std::sort(order.begin(), order.begin() + nd);
-      double best_score = -1;
-      Bubble_record best_record;
-      for(int kk = 0; kk < std::min(nd, 3); ++kk) {
-        Vec3 p = bi.x + r * directions[order[kk].second];
-        double s = -order[kk].first;
-        if(s < refine_bound)
-          break;
-        const Bubble_record* nearest = nearest_of[order[kk].second];
-        double step = 0.25 * r;
-        // (a step below 0.04 r no longer changes which hole is filled)
-        for(int it = 0; it < 12 && step > 0.04 * r; ++it) {
-          Vec3 away = p - nearest->x;
-          // stay on the entity's tangent space (the nearest bubble may lie on
-          // another patch or curve)
-          if(bi.dimension == 2)
-            away -= away.dot(bi.n) * bi.n;
-          else if(bi.dimension == 1)
-            away = away.dot(directions[0]) / directions[0].squaredNorm() * directions[0];
-          const double la = bi.m.length(away);
-          if(!(la > 0))
-            break;
-          const Vec3 qp = p + (step / la) * away;
-          // the score only sees bi's listed neighbours: stay near bi
-          if(bi.m.length(qp - bi.x) > reach) {
-            step *= 0.5;
-            continue;
-          }
-          const Bubble_record* nq;
-          const double sq = search_score(qp, s, nq); // only "better than s" matters
-          if(sq > s) {
-            p = qp;
-            s = sq;
-            nearest = nq;
-          } else {
-            step *= 0.5;
-          }
-        }
-        if(s < threshold || s <= best_score)
-          continue;
-        Bubble_record c = bi;
-        c.v = Vec3::Zero();
-        c.gap_free = false;
-        if(!constraint.place(c, p) || bi.m.length(c.x - bi.x) > reach)
-          continue;
-        refresh(c);
-        s = exact_score(c.x, c.m);
-        if(s < threshold || s <= best_score)
-          continue;
-        best_score = s;
-        best_record = c;
-      }
-      if(best_score >= 0)
-        found[blk].push_back(Candidate{i, best_score, best_record});
-      bi.gap_free = best_score < 0;
-    }
+  if(!incremental)
+    return search;
+  const double drift = 0.05;
+  std::vector<char> changed(n, 0);
+  exec.for_each(n, [&](std::size_t i) {
+    const Bubble_record& b = bubbles[i];
+    changed[i] = dead[i] || (!b.fixed && (!b.gap_free || b.m.squared_length(b.x - b.probed_at) > drift * drift));
   });
-  std::vector<Candidate> all;
-  for(auto& f : found)
-    all.insert(all.end(), f.begin(), f.end());
-  if(all.empty())
-    return 0;
+  exec.for_each(n, [&](std::size_t i) {
+    if(bubbles[i].fixed || dead[i])
+      return;
+    char s = changed[i];
+    for(const int* j = lists.begin(i); j != lists.end(i) && !s; ++j)
+      s = changed[*j];
+    search[i] = s;
+  });
+  return search;
+}
+
+// a neighbour of the searched bubble, in its metric frame: y = Q (x_j - x_i)
+struct Gap_search_neighbour {
+  Vec3 y;
+  const Bubble_record* b;
+};
+
+// The best gap next to bubble i (a new bubble `record` at normalized distance
+// `score` from its nearest one): probes around i, the three best refined
+// towards the centre of their hole, placed on i's entity. False if none is
+// wider than the insertion threshold. `near` is scratch space.
+template <typename Traits, typename Constraint, typename Refresh>
+bool best_gap(std::vector<Bubble_record>& bubbles, int i, const Neighbour_lists& lists, double list_reach,
+              const Traits& traits, const Constraint& constraint, const Refresh& refresh,
+              const std::vector<char>& dead, std::vector<Gap_search_neighbour>& near, double& score,
+              Bubble_record& record)
+{
+  typedef Gap_search_neighbour Near;
+  Bubble_record& bi = bubbles[std::size_t(i)];
+  bi.gap_free = false;
+  bi.probed_at = bi.x;
+  const double threshold = traits.gap_insertion_threshold(bi.dimension);
+  const double r = traits.gap_probe_distance(bi.dimension);
+  const double refine_bound = 0.5 * threshold;
+  // a candidate farther from bi than this could be near an unlisted bubble
+  // (the lists hold every bubble within metric distance `list_reach`; 0.05
+  // is left for the difference of neighbouring metrics)
+  const double reach = std::min(1.1, list_reach - threshold - 0.05);
+  const Eigen::Matrix3d q = bi.m.cholesky_upper();
+  auto frame = [&](const Vec3& x) {
+    const Vec3 d = x - bi.x;
+    return Vec3(q(0, 0) * d[0] + q(0, 1) * d[1] + q(0, 2) * d[2], q(1, 1) * d[1] + q(1, 2) * d[2],
+                q(2, 2) * d[2]);
+  };
+  // the bubbles that can be within the threshold of a candidate
+  const double keep2 = (reach + threshold + 0.05) * (reach + threshold + 0.05);
+  near.clear();
+  near.push_back(Near{Vec3::Zero(), &bi});
+  for(const int* j = lists.begin(i); j != lists.end(i); ++j)
+    if(!dead[*j]) {
+      const Vec3 y = frame(bubbles[*j].x);
+      if(y.squaredNorm() <= keep2)
+        near.push_back(Near{y, &bubbles[*j]});
+    }
+  // Search score of a point p: its metric distance, in bi's metric, to the
+  // nearest bubble (exact for a constant metric; it only guides the
+  // search). Any value below `bound` may be returned for a lower score.
+  auto search_score = [&](const Vec3& p, double bound, const Bubble_record*& nearest) {
+    const Vec3 y = frame(p);
+    double best2 = std::numeric_limits<double>::infinity();
+    const double bound2 = bound * bound;
+    nearest = &bi;
+    for(const Near& e : near) {
+      const double d2 = (e.y - y).squaredNorm();
+      if(d2 < best2) {
+        best2 = d2;
+        nearest = e.b;
+        if(best2 < bound2)
+          break;
+      }
+    }
+    return std::sqrt(best2);
+  };
+  // exact score: the normalized distance w to the nearest bubble
+  auto exact_score = [&](const Vec3& p, const Sym3& mp) {
+    double sc = std::numeric_limits<double>::infinity();
+    for(const Near& e : near)
+      sc = std::min(sc, normalized_distance_to(p, mp, *e.b));
+    return sc;
+  };
+  std::array<Vec3, 32> directions;
+  const int nd = constraint.probe_directions(bi, directions.data());
+  // the probes, best first; the three best are refined towards the centre
+  // of their hole (ascent of the distance to the nearest bubble)
+  std::array<std::pair<double, int>, 32> order;
+  std::array<const Bubble_record*, 32> nearest_of;
+  for(int k = 0; k < nd; ++k)
+    order[k] = std::make_pair(-search_score(bi.x + r * directions[k], refine_bound, nearest_of[k]), k);
+  std::sort(order.begin(), order.begin() + nd);
+  double best_score = -1;
+  Bubble_record best_record;
+  for(int kk = 0; kk < std::min(nd, 3); ++kk) {
+    Vec3 p = bi.x + r * directions[order[kk].second];
+    double s = -order[kk].first;
+    if(s < refine_bound)
+      break;
+    const Bubble_record* nearest = nearest_of[order[kk].second];
+    double step = 0.25 * r;
+    // (a step below 0.04 r no longer changes which hole is filled)
+    for(int it = 0; it < 12 && step > 0.04 * r; ++it) {
+      Vec3 away = p - nearest->x;
+      // stay on the entity's tangent space (the nearest bubble may lie on
+      // another patch or curve)
+      if(bi.dimension == 2)
+        away -= away.dot(bi.n) * bi.n;
+      else if(bi.dimension == 1)
+        away = away.dot(directions[0]) / directions[0].squaredNorm() * directions[0];
+      const double la = bi.m.length(away);
+      if(!(la > 0))
+        break;
+      const Vec3 qp = p + (step / la) * away;
+      // the score only sees bi's listed neighbours: stay near bi
+      if(bi.m.length(qp - bi.x) > reach) {
+        step *= 0.5;
+        continue;
+      }
+      const Bubble_record* nq;
+      const double sq = search_score(qp, s, nq); // only "better than s" matters
+      if(sq > s) {
+        p = qp;
+        s = sq;
+        nearest = nq;
+      } else {
+        step *= 0.5;
+      }
+    }
+    if(s < threshold || s <= best_score)
+      continue;
+    Bubble_record c = bi;
+    c.v = Vec3::Zero();
+    c.gap_free = false;
+    if(!constraint.place(c, p) || bi.m.length(c.x - bi.x) > reach)
+      continue;
+    refresh(c);
+    s = exact_score(c.x, c.m);
+    if(s < threshold || s <= best_score)
+      continue;
+    best_score = s;
+    best_record = c;
+  }
+  bi.gap_free = best_score < 0;
+  score = best_score;
+  record = best_record;
+  return best_score >= 0;
+}
+
+// Inserts the best candidates (widest gap first) that are not within the
+// insertion threshold of an accepted one, at most the traits' change fraction
+// of the moving bubbles; returns how many.
+template <typename Traits, typename Candidate>
+std::size_t insert_accepted_gaps(std::vector<Bubble_record>& bubbles, const Neighbour_lists& lists,
+                                 const Traits& traits, std::size_t moving, std::vector<Candidate>& all)
+{
+  const std::size_t n = bubbles.size();
   std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) {
     return a.score > b.score || (a.score == b.score && a.origin < b.origin);
   });
@@ -326,6 +328,45 @@ std::size_t fill_gaps(std::vector<Bubble_record>& bubbles, const Neighbour_lists
     if(accepted[i] >= 0)
       bubbles.push_back(all[accepted[i]].record);
   return count;
+}
+
+/// The best gap next to each moving bubble. `Constraint` gives the probe
+/// directions (metric length 1, tangent to the bubble's entity) and places a
+/// new bubble on the entity (`place(record, point)`, false when impossible).
+template <typename Traits, typename Constraint, typename Refresh>
+std::size_t fill_gaps(std::vector<Bubble_record>& bubbles, const Neighbour_lists& lists, double list_reach,
+                      const Traits& traits,
+                      const Constraint& constraint, const Refresh& refresh, const Parallel_executor& exec,
+                      std::size_t moving, const std::vector<char>& dead, bool incremental)
+{
+  const std::size_t n = bubbles.size();
+  const std::vector<char> search = bubbles_to_search(bubbles, lists, exec, dead, incremental);
+  // the best candidate of each bubble, collected per block (deterministic)
+  struct Candidate {
+    int origin;
+    double score;
+    Bubble_record record;
+  };
+  const std::size_t nb = Parallel_executor::number_of_blocks(n);
+  std::vector<std::vector<Candidate>> found(nb);
+  exec.for_each_block(n, [&](std::size_t blk, std::size_t begin, std::size_t end) {
+    std::vector<Gap_search_neighbour> near;
+    for(std::size_t ii = begin; ii < end; ++ii) {
+      const int i = static_cast<int>(ii);
+      if(bubbles[ii].fixed || dead[ii] || !search[ii])
+        continue;
+      double score;
+      Bubble_record record;
+      if(best_gap(bubbles, i, lists, list_reach, traits, constraint, refresh, dead, near, score, record))
+        found[blk].push_back(Candidate{i, score, record});
+    }
+  });
+  std::vector<Candidate> all;
+  for(auto& f : found)
+    all.insert(all.end(), f.begin(), f.end());
+  if(all.empty())
+    return 0;
+  return insert_accepted_gaps(bubbles, lists, traits, moving, all);
 }
 
 /// removes moving bubbles closer than `w_min` to a fixed bubble or to a kept

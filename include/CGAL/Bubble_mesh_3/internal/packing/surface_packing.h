@@ -203,8 +203,7 @@ private:
     }
     expected_ += expected;
     if(expected_ > limit_)
-      throw Invalid_input("Bubble_packer_3: the surface alone needs more than " + std::to_string(limit_) +
-                          " bubbles (maximum_number_of_bubbles)");
+      throw Too_many_nodes(expected_, limit_); // the packer adds the other stages' counts
     if(count_only_)
       return;
     if(expected < 2) {

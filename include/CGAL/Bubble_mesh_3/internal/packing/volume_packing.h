@@ -233,8 +233,7 @@ private:
     // the packer refuses too large estimates before any work; this guards the
     // memory against an estimate that was far too low
     if(double(out_.size() - first_) > limit_)
-      throw Invalid_input("Bubble_packer_3: the interior seeds exceed " + std::to_string(limit_) +
-                          " (maximum_number_of_bubbles)");
+      throw Too_many_nodes(double(out_.size() - first_), limit_); // the packer adds the other stages' counts
   }
 
   void leaf(const Vec3& lo, const Vec3& hi, const Sym3& m)
