@@ -36,7 +36,7 @@ namespace CGAL {
 /// filled by `make_anisotropic_mesh_3()`: a plain `Triangulation_3` over
 /// Mesh_3's geometric traits and data structure. A regular triangulation
 /// (Mesh_3's default) asserts in debug builds when it holds a mesh that is not
-/// regular, which an anisotropic mesh is not (cgal_conventions.md 6); this
+/// regular, which an anisotropic mesh is not (CGAL 5.5); this
 /// type holds any valid mesh and works with `output_to_medit()`,
 /// `output_to_vtu()` and the C3T3 iterators.
 template <typename MeshDomain>

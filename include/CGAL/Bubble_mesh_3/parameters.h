@@ -6,7 +6,7 @@
 // Named parameters of make_anisotropic_mesh_3. The package's own tags live in
 // CGAL::Bubble_mesh_3::internal_np; a thin class derived from CGAL's
 // Named_function_parameters chains them with the CGAL tags the package reuses
-// (cgal_conventions.md 4.4), so
+// (CGAL 5.5 has no public way to add tags to its own class), so
 //   CGAL::Bubble_mesh_3::parameters::number_of_threads(2).random_seed(7)
 // and CGAL::parameters::random_seed(7) both work.
 #ifndef CGAL_BUBBLE_MESH_3_PARAMETERS_H

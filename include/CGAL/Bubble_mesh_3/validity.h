@@ -31,7 +31,7 @@
 // The mesh validity checker of the package.
 //
 // CGAL's `c3t3.is_valid()` checks neither orientation, nor conformity, nor
-// the surface (see cgal_conventions.md, 6.3 item 5), so every stage of the
+// the surface (CGAL 5.5: it checks the triangulation data structure), so every stage of the
 // package (advancing front, swaps, the `eval` tool) checks its output here.
 //
 // Why the checks below imply that no two tets overlap (item 7 of the brief),
@@ -93,7 +93,7 @@ struct Validity_options {
   bool require_outward_triangles = false;
   /// a face listed more than once in `triangles` is an error unless this is
   /// set (it is counted anyway). CGAL's `output_to_medit()` lists every
-  /// surface facet twice, once per side (cgal_conventions.md 6.3 item 9).
+  /// surface facet twice, once per side (CGAL 5.5).
   bool allow_duplicate_triangles = false;
   /// relative tolerance of the identity sum(tet volumes) == volume enclosed
   /// by the boundary faces, relative to the sum of |tet volumes|

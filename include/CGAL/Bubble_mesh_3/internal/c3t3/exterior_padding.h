@@ -30,7 +30,8 @@
 
 // Pads a domain tet mesh out to an axis-aligned box with tets of subdomain 0,
 // so that the tets cover a convex region and CGAL's tet-soup builder accepts
-// any topology (several components, cavities; cgal_conventions.md 6.3-6.4).
+// any topology (several components, cavities): a triangulation fills the
+// convex hull of its vertices.
 //
 // The domain tets are kept as they are. The exterior (box minus domain) is
 // tetrahedralized by TetGen with the piecewise linear complex made of the

@@ -24,8 +24,8 @@
 // into a `Mesh_complex_3_in_triangulation_3`.
 //
 // This is the only place that calls CGAL's tet-soup builder, whose header,
-// namespace and signature change after CGAL 5.5 (cgal_conventions.md, 6.1 and
-// 10): adapt `build_triangulation_adapter()` below and nothing else.
+// namespace and signature change after CGAL 5.5 (later releases moved it from
+// Mesh_3's internals to the SMDS_3 package): adapt `build_triangulation_adapter()` below and nothing else.
 //
 // Padding vertices and cells are *not* filtered: they stay in the
 // triangulation (cells with subdomain index 0, vertices of dimension 3 with
@@ -197,7 +197,7 @@ void tet_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_ver
   //    asserts on it in debug builds (6.3 item 6)
   check_closable_into_sphere(mesh.tets, n);
 
-  // 3. border facets, keyed by their sorted ids (cgal_conventions.md 6.3 item 2)
+  // 3. border facets, keyed by their sorted ids (the builder's input format)
   std::map<std::array<int, 3>, typename Tr::Cell::Surface_patch_index> border;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     std::array<int, 3> key = mesh.triangles[f];
