@@ -245,7 +245,27 @@ private:
   void build(const std::vector<Point>& corners, const std::vector<Curve>& curves)
   {
     Data& d = *data_;
-    auto vec = [](const Point& p) { return Eigen::Vector3d(p[0], p[1], p[2]); };
+    std::vector<double> length;
+    const std::vector<Sample> samples = feature_samples(corners, curves, length);
+    d.statistics.samples = samples.size();
+    if(samples.empty())
+      return; // no corners and no curves (a torus, a sphere): nothing to refine
+    double largest_reach = 0;
+    std::vector<Source> refining = refining_sources(samples, corners, curves, length, largest_reach);
+    if(refining.empty())
+      return;
+    index_sources(refining, largest_reach);
+    d.statistics.kept_samples = d.sources.size();
+  }
+
+  static Eigen::Vector3d vec(const Point& p) { return Eigen::Vector3d(p[0], p[1], p[2]); }
+
+  /// the corners, and the curves' points with their segments split to a
+  /// quarter of the smallest size asked at their ends (at most 10^5 pieces
+  /// per segment); `length`: of each curve
+  std::vector<Sample> feature_samples(const std::vector<Point>& corners, const std::vector<Curve>& curves,
+                                      std::vector<double>& length) const
+  {
     std::vector<Sample> samples;
     for(std::size_t k = 0; k < corners.size(); ++k) {
       Sample s;
@@ -253,9 +273,7 @@ private:
       s.corner = int(k);
       samples.push_back(s);
     }
-    // curve samples: the curve's points, segments split to a quarter of the
-    // smallest size asked at their ends (at most 10^5 pieces per segment)
-    std::vector<double> length(curves.size(), 0);
+    length.assign(curves.size(), 0);
     for(std::size_t c = 0; c < curves.size(); ++c) {
       const Curve& curve = curves[c];
       const std::size_t n = curve.points.size();
@@ -283,10 +301,17 @@ private:
       length[c] = arc;
       // an open curve's last point is its end corner: not a curve sample
     }
-    d.statistics.samples = samples.size();
-    if(samples.empty())
-      return; // no corners and no curves (a torus, a sphere): nothing to refine
+    return samples;
+  }
 
+  /// the samples whose features are closer than the user's size there, as
+  /// sources of their feature size (floored, counted in the statistics);
+  /// `largest_reach`: the largest distance one of them refines
+  std::vector<Source> refining_sources(const std::vector<Sample>& samples, const std::vector<Point>& corners,
+                                       const std::vector<Curve>& curves, const std::vector<double>& length,
+                                       double& largest_reach)
+  {
+    Data& d = *data_;
     // the feature size of each sample, from the samples within the user's
     // largest size there
     std::vector<Indexed_point> indexed;
@@ -314,7 +339,6 @@ private:
       return one_corner ? length[std::size_t(c)] / 3 : length[std::size_t(c)];
     };
     std::vector<Source> refining;
-    double largest_reach = 0;
     std::vector<Indexed_point> found;
     for(std::size_t i = 0; i < samples.size(); ++i) {
       const Sample& s = samples[i];
@@ -366,9 +390,14 @@ private:
       refining.push_back(Source{s.p, a, h});
       largest_reach = std::max(largest_reach, reach(refining.back(), h));
     }
-    if(refining.empty())
-      return;
+    return refining;
+  }
 
+  /// keeps the sources no other one implies, listed in hash-grid cells each
+  /// pruned to the sources that can give its smallest size
+  void index_sources(std::vector<Source>& refining, double largest_reach)
+  {
+    Data& d = *data_;
     // the queried sources: the smallest first, each kept unless a kept one
     // already asks as little everywhere (a_t + g |s - t| <= a_s implies it
     // for every x by the triangle inequality)
@@ -419,7 +448,6 @@ private:
       }
       cell.second.swap(kept);
     }
-    d.statistics.kept_samples = d.sources.size();
   }
 
   // the smallest and largest distances from p to the cube of side g at lo
