@@ -1011,12 +1011,13 @@ inline std::string ply_item_text(const Ply_element& e, std::uint64_t i)
   return "element " + quote(e.name) + " item " + str(i) + " (0-based) of " + str(e.count);
 }
 
-// The ASCII data after the header (what follows the last element is ignored).
-inline void read_ply_ascii(const char* data, std::size_t size, std::size_t first_line, const Ply_header& h,
-                           const Ply_element* vertex, const Ply_element* face, const Context& cx, Polygon_soup& soup)
+// Calls `read(e, i, p, is_vertex, is_face, point, polygon)` for every
+// property of every item of every element of the data, in order, and keeps
+// the vertices' points and the faces' index lists.
+template <typename Read_property>
+void for_each_ply_property(const Ply_header& h, const Ply_element* vertex, const Ply_element* face,
+                           Polygon_soup& soup, const Read_property& read)
 {
-  std::string_view t;
-  Tokens tokens(data, size, first_line);
   for(const Ply_element& e : h.elements) {
     if(e.properties.empty())
       continue;
@@ -1025,50 +1026,7 @@ inline void read_ply_ascii(const char* data, std::size_t size, std::size_t first
       std::array<double, 3> point = {{0, 0, 0}};
       std::vector<std::size_t> polygon;
       for(const Ply_property& p : e.properties) {
-        auto next = [&](const char* what) {
-          if(!tokens.next(t))
-            cx.fail("unexpected end of file in " + ply_item_text(e, i) + ": expected " + what +
-                                          " of property " + quote(p.name));
-        };
-        if(!p.list) {
-          next("the value");
-          double x = 0;
-          if(!parse_double(t, x))
-            cx.fail_at(tokens.line(), "expected a number for property " + quote(p.name) + " of " + ply_item_text(e, i) +
-                                          ", got " + quote(t));
-          if(is_vertex && p.role >= 0) {
-            if(!std::isfinite(x))
-              cx.fail_at(tokens.line(), "vertex " + str(i) + " (0-based) has a non-finite coordinate " + quote(t));
-            point[std::size_t(p.role)] = x;
-          }
-          continue;
-        }
-        next("the list length");
-        std::uint64_t n = 0;
-        if(!parse_integer(t, n))
-          cx.fail_at(tokens.line(), "expected the list length (a non-negative integer) of property " + quote(p.name) +
-                                        " of " + ply_item_text(e, i) + ", got " + quote(t));
-        if(n > (tokens.bytes_left() + 1) / 2)
-          cx.fail_at(tokens.line(), "the list " + quote(p.name) + " of " + ply_item_text(e, i) + " announces " + str(n) +
-                                        " entries, more than the rest of the file holds");
-        const bool indices = is_face && p.role == 3;
-        if(indices)
-          polygon.reserve(std::size_t(n));
-        for(std::uint64_t k = 0; k < n; ++k) {
-          next("a list entry");
-          if(indices) {
-            std::uint64_t v = 0;
-            if(!parse_integer(t, v))
-              cx.fail_at(tokens.line(), "expected a vertex index (a non-negative integer) in face " + str(i) +
-                                            " (0-based), got " + quote(t));
-            polygon.push_back(std::size_t(v));
-          } else {
-            double x;
-            if(!parse_double(t, x))
-              cx.fail_at(tokens.line(), "expected a number in the list " + quote(p.name) + " of " + ply_item_text(e, i) +
-                                            ", got " + quote(t));
-          }
-        }
+        read(e, i, p, is_vertex, is_face, point, polygon);
       }
       if(is_vertex)
         soup.points.push_back(point);
@@ -1076,7 +1034,62 @@ inline void read_ply_ascii(const char* data, std::size_t size, std::size_t first
         soup.polygons.push_back(std::move(polygon));
     }
   }
+}
 
+// The ASCII data after the header (what follows the last element is ignored).
+inline void read_ply_ascii(const char* data, std::size_t size, std::size_t first_line, const Ply_header& h,
+                           const Ply_element* vertex, const Ply_element* face, const Context& cx, Polygon_soup& soup)
+{
+  std::string_view t;
+  Tokens tokens(data, size, first_line);
+  for_each_ply_property(h, vertex, face, soup,
+                        [&](const Ply_element& e, std::uint64_t i, const Ply_property& p, bool is_vertex,
+                            bool is_face, std::array<double, 3>& point, std::vector<std::size_t>& polygon) {
+    auto next = [&](const char* what) {
+      if(!tokens.next(t))
+        cx.fail("unexpected end of file in " + ply_item_text(e, i) + ": expected " + what +
+                                      " of property " + quote(p.name));
+    };
+    if(!p.list) {
+      next("the value");
+      double x = 0;
+      if(!parse_double(t, x))
+        cx.fail_at(tokens.line(), "expected a number for property " + quote(p.name) + " of " + ply_item_text(e, i) +
+                                      ", got " + quote(t));
+      if(is_vertex && p.role >= 0) {
+        if(!std::isfinite(x))
+          cx.fail_at(tokens.line(), "vertex " + str(i) + " (0-based) has a non-finite coordinate " + quote(t));
+        point[std::size_t(p.role)] = x;
+      }
+      return; // the next property
+    }
+    next("the list length");
+    std::uint64_t n = 0;
+    if(!parse_integer(t, n))
+      cx.fail_at(tokens.line(), "expected the list length (a non-negative integer) of property " + quote(p.name) +
+                                    " of " + ply_item_text(e, i) + ", got " + quote(t));
+    if(n > (tokens.bytes_left() + 1) / 2)
+      cx.fail_at(tokens.line(), "the list " + quote(p.name) + " of " + ply_item_text(e, i) + " announces " + str(n) +
+                                    " entries, more than the rest of the file holds");
+    const bool indices = is_face && p.role == 3;
+    if(indices)
+      polygon.reserve(std::size_t(n));
+    for(std::uint64_t k = 0; k < n; ++k) {
+      next("a list entry");
+      if(indices) {
+        std::uint64_t v = 0;
+        if(!parse_integer(t, v))
+          cx.fail_at(tokens.line(), "expected a vertex index (a non-negative integer) in face " + str(i) +
+                                        " (0-based), got " + quote(t));
+        polygon.push_back(std::size_t(v));
+      } else {
+        double x;
+        if(!parse_double(t, x))
+          cx.fail_at(tokens.line(), "expected a number in the list " + quote(p.name) + " of " + ply_item_text(e, i) +
+                                        ", got " + quote(t));
+      }
+    }
+                        });
 }
 
 // The binary data, from byte `data_offset` of the file (messages name it with
@@ -1087,56 +1100,45 @@ inline void read_ply_binary(const char* data, std::size_t size, std::size_t data
 {
   Ply_binary in(reinterpret_cast<const unsigned char*>(data + data_offset),
                 reinterpret_cast<const unsigned char*>(data + size), h.format == ply_big);
-  for(const Ply_element& e : h.elements) {
-    if(e.properties.empty())
-      continue;
-    const bool is_vertex = &e == vertex, is_face = &e == face;
-    for(std::uint64_t i = 0; i < e.count; ++i) {
-      std::array<double, 3> point = {{0, 0, 0}};
-      std::vector<std::size_t> polygon;
-      for(const Ply_property& p : e.properties) {
-        auto need = [&](std::uint64_t bytes, const char* what) {
-          if(bytes > in.left())
-            cx.fail(where + "the file ends inside " + ply_item_text(e, i) + " (" + what + " of property " + quote(p.name) +
-                    " at byte " + str(data_offset + in.offset()) + " needs " + str(bytes) + " bytes, " +
-                    str(in.left()) + " left; truncated file?)");
-        };
-        if(!p.list) {
-          need(ply_size(p.type), "the value");
-          if(is_vertex && p.role >= 0)
-            point[std::size_t(p.role)] = in.load_double(p.type);
-          else
-            in.skip(ply_size(p.type));
-          continue;
-        }
-        need(ply_size(p.count_type), "the list length");
-        const std::int64_t n = in.load_integer(p.count_type);
-        if(n < 0)
-          cx.fail(where + "negative list length " + std::to_string(n) + " of property " + quote(p.name) + " in " +
-                  ply_item_text(e, i));
-        const std::uint64_t entry = ply_size(p.type);
-        if(std::uint64_t(n) > in.left() / entry)
-          cx.fail(where + "the list " + quote(p.name) + " of " + ply_item_text(e, i) + " announces " + std::to_string(n) +
-                  " entries (" + str(std::uint64_t(n) * entry) + " bytes), more than the " + str(in.left()) +
-                  " bytes left (truncated or corrupt file)");
-        if(is_face && p.role == 3) {
-          polygon.reserve(std::size_t(n));
-          for(std::int64_t k = 0; k < n; ++k) {
-            const std::int64_t v = in.load_integer(p.type);
-            if(v < 0)
-              cx.fail(where + "face " + str(i) + " (0-based) has a negative vertex index " + std::to_string(v));
-            polygon.push_back(std::size_t(v));
-          }
-        } else {
-          in.skip(std::size_t(std::uint64_t(n) * entry));
-        }
-      }
-      if(is_vertex)
-        soup.points.push_back(point);
-      if(is_face)
-        soup.polygons.push_back(std::move(polygon));
+  for_each_ply_property(h, vertex, face, soup,
+                        [&](const Ply_element& e, std::uint64_t i, const Ply_property& p, bool is_vertex,
+                            bool is_face, std::array<double, 3>& point, std::vector<std::size_t>& polygon) {
+    auto need = [&](std::uint64_t bytes, const char* what) {
+      if(bytes > in.left())
+        cx.fail(where + "the file ends inside " + ply_item_text(e, i) + " (" + what + " of property " + quote(p.name) +
+                " at byte " + str(data_offset + in.offset()) + " needs " + str(bytes) + " bytes, " +
+                str(in.left()) + " left; truncated file?)");
+    };
+    if(!p.list) {
+      need(ply_size(p.type), "the value");
+      if(is_vertex && p.role >= 0)
+        point[std::size_t(p.role)] = in.load_double(p.type);
+      else
+        in.skip(ply_size(p.type));
+      return; // the next property
     }
-  }
+    need(ply_size(p.count_type), "the list length");
+    const std::int64_t n = in.load_integer(p.count_type);
+    if(n < 0)
+      cx.fail(where + "negative list length " + std::to_string(n) + " of property " + quote(p.name) + " in " +
+              ply_item_text(e, i));
+    const std::uint64_t entry = ply_size(p.type);
+    if(std::uint64_t(n) > in.left() / entry)
+      cx.fail(where + "the list " + quote(p.name) + " of " + ply_item_text(e, i) + " announces " + std::to_string(n) +
+              " entries (" + str(std::uint64_t(n) * entry) + " bytes), more than the " + str(in.left()) +
+              " bytes left (truncated or corrupt file)");
+    if(is_face && p.role == 3) {
+      polygon.reserve(std::size_t(n));
+      for(std::int64_t k = 0; k < n; ++k) {
+        const std::int64_t v = in.load_integer(p.type);
+        if(v < 0)
+          cx.fail(where + "face " + str(i) + " (0-based) has a negative vertex index " + std::to_string(v));
+        polygon.push_back(std::size_t(v));
+      }
+    } else {
+      in.skip(std::size_t(std::uint64_t(n) * entry));
+    }
+                        });
 }
 
 inline Polygon_soup parse_ply(const char* data, std::size_t size, const std::string& name)

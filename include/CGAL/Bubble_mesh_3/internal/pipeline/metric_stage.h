@@ -13,16 +13,11 @@
 // the caller built as either kind is used as it is.
 
 #include <CGAL/Bubble_mesh_3/Meshing_report.h>
-#include <CGAL/Bubble_mesh_3/internal/front/boundary_front.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/run_control.h>
 #include <CGAL/Feature_size_metric_field_3.h>
 #include <CGAL/Surface_approximation_metric_field_3.h>
 
-#include <algorithm>
-#include <array>
 #include <chrono>
-#include <cmath>
-#include <limits>
 #include <sstream>
 #include <string>
 #include <type_traits>
