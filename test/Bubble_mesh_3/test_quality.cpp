@@ -674,6 +674,12 @@ TEST(QualityReport, UnitCubeInIdentityMetric)
   EXPECT_EQ(r.min_dihedral.below15, 0u);
   for(int i = 0; i < 18; ++i)
     EXPECT_EQ(r.histogram_5deg[static_cast<std::size_t>(i)], i == 9 ? 6u : 0u) << "bin " << i;
+  // Kuhn tet: squared edges 1, 1, 1, 2, 2, 3 (sum 10), 3 V = 1/2
+  const double kuhn_ratio = 12 * std::cbrt(0.25) / 10;
+  EXPECT_NEAR(r.mean_ratio.worst, kuhn_ratio, 1e-14);
+  EXPECT_NEAR(r.mean_ratio.p01, kuhn_ratio, 1e-14);
+  EXPECT_NEAR(r.mean_ratio.mean, kuhn_ratio, 1e-14);
+  EXPECT_EQ(r.mean_ratio.worst_tet, 0u);
   // 12 cube edges (1), 6 face diagonals (sqrt 2), 1 body diagonal (sqrt 3).
   EXPECT_EQ(r.edge_length.number_of_edges, 19u);
   EXPECT_NEAR(r.edge_length.min, 1, 1e-15);
@@ -743,6 +749,8 @@ TEST(QualityReport, InvertedFlatAndUnusedVertices)
   EXPECT_EQ(r.histogram_5deg[0], 1u);
   EXPECT_EQ(r.histogram_5deg[9], 6u); // the inverted tet keeps its 45 degrees
   EXPECT_NEAR(r.min_dihedral.mean, 6 * 45.0 / 7, 1e-9);
+  EXPECT_EQ(r.mean_ratio.worst, 0); // the flat tet, exactly
+  EXPECT_EQ(r.mean_ratio.worst_tet, 6u);
   // 19 + 3 new edges to the centre point (0-c, 1-c, 3-c); 0-1, 0-3, 1-3 exist.
   EXPECT_EQ(r.edge_length.number_of_edges, 22u);
 
@@ -754,6 +762,40 @@ TEST(QualityReport, InvertedFlatAndUnusedVertices)
   const BM::Quality_report s = BM::compute_quality_report(sliver, CGAL::Constant_metric_field_3<Epick>());
   EXPECT_EQ(s.inverted_tets, 1u);
   EXPECT_EQ(s.degenerate_tets, 0u);
+}
+
+// A needle: an equilateral base and an apex 20 above its centre. No dihedral
+// angle is small (60 degrees between the long faces, nearly 90 at the base),
+// but the tet is 20 times longer than wide: the mean ratio says so. In the
+// metric that shrinks z to the regular tet's height it is regular.
+TEST(QualityReport, MeanRatioSeesNeedlesTheAngleDoesNot)
+{
+  BM::Indexed_tet_mesh_3 needle;
+  const double height = 20, regular_height = std::sqrt(2.0 / 3);
+  needle.points = {{{0, 0, 0}}, {{1, 0, 0}}, {{0.5, std::sqrt(3.0) / 2, 0}},
+                   {{0.5, std::sqrt(3.0) / 6, height}}};
+  needle.tets = {{{0, 1, 2, 3}}};
+  const BM::Quality_report r = BM::compute_quality_report(needle, CGAL::Constant_metric_field_3<Epick>());
+  EXPECT_GT(r.min_dihedral.worst, 59.5);
+  // sum of squared edges 3 + 3 (400 + 1/3), 3 V = height sqrt(3) / 4
+  const double expected = 12 * std::cbrt(std::pow(height * std::sqrt(3.0) / 4, 2)) / (3 + 3 * (400 + 1.0 / 3));
+  EXPECT_NEAR(r.mean_ratio.worst, expected, 1e-12);
+  EXPECT_LT(r.mean_ratio.worst, 0.05);
+
+  const double s = regular_height / height;
+  const BM::Metric_3 flatten = BM::Metric_3::from_entries(1, 0, 0, 1, 0, s * s);
+  const BM::Quality_report m = BM::compute_quality_report(needle, CGAL::Constant_metric_field_3<Epick>(flatten));
+  EXPECT_NEAR(m.mean_ratio.worst, 1, 1e-12);
+  EXPECT_NEAR(m.min_dihedral.worst, std::acos(1.0 / 3) * 180 / CGAL_PI, 1e-9);
+
+  // the worst of two: a regular tet (index 0) and the needle (index 1)
+  BM::Indexed_tet_mesh_3 two = needle;
+  two.points.push_back({{0.5, std::sqrt(3.0) / 6, -regular_height}});
+  two.tets = {{{0, 2, 1, 4}}, {{0, 1, 2, 3}}};
+  const BM::Quality_report t = BM::compute_quality_report(two, CGAL::Constant_metric_field_3<Epick>());
+  EXPECT_EQ(t.mean_ratio.worst_tet, 1u);
+  EXPECT_NEAR(t.mean_ratio.mean, (1 + expected) / 2, 1e-12);
+  EXPECT_NEAR(t.mean_ratio.p01, expected, 1e-12);
 }
 
 TEST(QualityReport, InvalidInput)
@@ -876,8 +918,8 @@ TEST(QualityReport, JsonIsValidAndHoldsTheValues)
   Json j;
   ASSERT_NO_THROW(j = Json_parser(json).parse()) << json;
   ASSERT_EQ(j.type, Json::Object);
-  for(const char* key : {"vertices", "tets", "min_dihedral", "histogram_5deg", "edge_length", "inverted_tets",
-                         "volume", "metric_volume", "metric", "degenerate_tets"})
+  for(const char* key : {"vertices", "tets", "min_dihedral", "mean_ratio", "histogram_5deg", "edge_length",
+                         "inverted_tets", "volume", "metric_volume", "metric", "degenerate_tets"})
     EXPECT_TRUE(j.has(key)) << key;
   EXPECT_EQ(j["vertices"].number, 27);
   EXPECT_EQ(j["tets"].number, 48);
@@ -903,6 +945,13 @@ TEST(QualityReport, JsonIsValidAndHoldsTheValues)
   }
   EXPECT_EQ(sum, 48);
   const Json& el = j["edge_length"];
+  const auto& ratio = j["mean_ratio"];
+  for(const char* key : {"worst", "worst_tet", "p01", "mean"})
+    EXPECT_TRUE(ratio.has(key)) << key;
+  EXPECT_EQ(ratio["worst"].number, r.mean_ratio.worst);
+  EXPECT_EQ(ratio["p01"].number, r.mean_ratio.p01);
+  EXPECT_EQ(ratio["mean"].number, r.mean_ratio.mean);
+  EXPECT_EQ(ratio["worst_tet"].number, static_cast<double>(r.mean_ratio.worst_tet));
   for(const char* key : {"min", "max", "mean", "in_range_fraction"})
     EXPECT_TRUE(el.has(key)) << key;
   EXPECT_EQ(el["min"].number, r.edge_length.min);
@@ -926,6 +975,7 @@ TEST(QualityReport, SummaryAndSvg)
   const std::string text = os.str();
   EXPECT_NE(text.find("162 tets"), std::string::npos) << text;
   EXPECT_NE(text.find("worst 45.00"), std::string::npos) << text;
+  EXPECT_NE(text.find("mean ratio: worst 0.756 (tet 0), p01 0.756, mean 0.756"), std::string::npos) << text;
   // The 45-50 bin holds all tets: a full bar of 50 '#' and the count.
   const std::size_t line = text.find("45-50)");
   ASSERT_NE(line, std::string::npos) << text;

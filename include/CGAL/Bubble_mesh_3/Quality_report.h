@@ -70,6 +70,22 @@ struct Quality_report {
     std::size_t below15 = 0;
   };
 
+  /// Statistics of the per-tet mean ratio `12 (3|V|)^(2/3) / sum of the six
+  /// squared edge lengths`, in the same metric as the angles (1 for a
+  /// regular tet, 0 for a flat one): the shape measure of the UGAWG
+  /// benchmarks. Unlike the minimum dihedral angle it also sees needles (a
+  /// tet much longer than wide with no small dihedral angle), so a mesh whose
+  /// edges stray from the metric's length shows here first.
+  struct Mean_ratio {
+    /// smallest value over all tets
+    double worst = 0;
+    /// index of the first tet reaching `worst`
+    std::size_t worst_tet = 0;
+    /// 1st percentile, nearest rank
+    double p01 = 0;
+    double mean = 0;
+  };
+
   /// Statistics of the metric lengths of the unique edges of the tets; the
   /// length of an edge is the mean of its lengths in the metrics of its two
   /// end vertices (`metric_edge_length(p, q, m_p, m_q)`).
@@ -92,6 +108,7 @@ struct Quality_report {
   /// degree below a bin boundary goes to the upper bin, so that exact angles
   /// such as 45 degrees computed with rounding errors land where expected.
   std::array<std::size_t, number_of_bins> histogram_5deg{};
+  Mean_ratio mean_ratio;
   Edge_length edge_length;
   /// tets with `CGAL::orientation(p0, p1, p2, p3) == CGAL::NEGATIVE` (exact)
   std::size_t inverted_tets = 0;
@@ -195,7 +212,8 @@ inline void check_mesh_for_quality(const Indexed_tet_mesh_3& mesh, std::vector<c
 template <typename MetricField_3>
 void compute_tet_measures(const Indexed_tet_mesh_3& mesh, const MetricField_3& field,
                           std::vector<double>& min_dihedral, std::vector<double>* volume,
-                          std::vector<double>* metric_volume, std::vector<signed char>* orientation)
+                          std::vector<double>* metric_volume, std::vector<signed char>* orientation,
+                          std::vector<double>* mean_ratio = nullptr)
 {
   typedef typename MetricField_3::Point_3 Field_point;
   typedef CGAL::Exact_predicates_inexact_constructions_kernel::Point_3 Exact_point;
@@ -207,6 +225,8 @@ void compute_tet_measures(const Indexed_tet_mesh_3& mesh, const MetricField_3& f
     metric_volume->resize(nt);
   if(orientation)
     orientation->resize(nt);
+  if(mean_ratio)
+    mean_ratio->resize(nt);
   quality_parallel_for(nt, [&](std::size_t begin, std::size_t end) {
     for(std::size_t t = begin; t < end; ++t) {
       const std::array<int, 4>& tet = mesh.tets[t];
@@ -230,10 +250,15 @@ void compute_tet_measures(const Indexed_tet_mesh_3& mesh, const MetricField_3& f
         (*orientation)[t] = static_cast<signed char>(o);
       if(o == CGAL::COPLANAR) {
         min_dihedral[t] = 0;
+        if(mean_ratio)
+          (*mean_ratio)[t] = 0;
       } else {
         const Eigen::Matrix3d& q = metric.Q();
-        min_dihedral[t] = minimum_dihedral_angle_of_edge_vectors(
-            map_by_upper(q, p1 - p0), map_by_upper(q, p2 - p0), map_by_upper(q, p3 - p0));
+        const Eigen::Vector3d e1 = map_by_upper(q, p1 - p0), e2 = map_by_upper(q, p2 - p0),
+                              e3 = map_by_upper(q, p3 - p0);
+        min_dihedral[t] = minimum_dihedral_angle_of_edge_vectors(e1, e2, e3);
+        if(mean_ratio)
+          (*mean_ratio)[t] = mean_ratio_of_edge_vectors(e1, e2, e3);
       }
       if(volume || metric_volume) {
         const double v = signed_volume(p0, p1, p2, p3);
@@ -379,7 +404,8 @@ Quality_report compute_quality_report(const Indexed_tet_mesh_3& mesh, const Metr
   std::vector<double> volumes;
   std::vector<double> metric_volumes;
   std::vector<signed char> orientations;
-  internal::compute_tet_measures(mesh, field, angles, &volumes, &metric_volumes, &orientations);
+  std::vector<double> ratios;
+  internal::compute_tet_measures(mesh, field, angles, &volumes, &metric_volumes, &orientations, &ratios);
 
   // Vertex metrics (six entries each), one evaluation per referenced vertex.
   std::vector<std::array<double, 6>> vertex_metrics(np);
@@ -440,6 +466,13 @@ Quality_report compute_quality_report(const Indexed_tet_mesh_3& mesh, const Metr
   report.metric_volume = internal::compensated_sum(metric_volumes);
   md.p01 = nearest_rank_percentile(std::move(angles), 1.0);
 
+  Quality_report::Mean_ratio& mr = report.mean_ratio;
+  const auto worst_ratio = std::min_element(ratios.begin(), ratios.end()); // the first of equal ones
+  mr.worst = *worst_ratio;
+  mr.worst_tet = static_cast<std::size_t>(worst_ratio - ratios.begin());
+  mr.mean = internal::compensated_sum(ratios) / static_cast<double>(ratios.size());
+  mr.p01 = nearest_rank_percentile(std::move(ratios), 1.0);
+
   Quality_report::Edge_length& el = report.edge_length;
   el.number_of_edges = lengths.size();
   if(!lengths.empty()) {
@@ -463,7 +496,8 @@ Quality_report compute_quality_report(const Indexed_tet_mesh_3& mesh, const Metr
 /// \ingroup PkgBubbleMesh3Functions
 /// The report as a JSON object (UTF-8, no trailing newline), with the keys
 /// `vertices`, `tets`, `metric`, `min_dihedral` {`worst`, `worst_tet`, `p01`,
-/// `mean`, `below5`, `below10`, `below15`}, `histogram_5deg` (18 counts),
+/// `mean`, `below5`, `below10`, `below15`}, `mean_ratio` {`worst`, `worst_tet`,
+/// `p01`, `mean`}, `histogram_5deg` (18 counts),
 /// `histogram_bin_degrees`, `edge_length` {`min`, `max`, `mean`,
 /// `in_range_fraction`, `number_of_edges`}, `inverted_tets`,
 /// `degenerate_tets`, `volume`, `metric_volume`. Numbers are written in the
@@ -481,6 +515,9 @@ inline std::string to_json(const Quality_report& r)
      << ", \"worst_tet\": " << r.min_dihedral.worst_tet << ", \"p01\": " << format_json_number(r.min_dihedral.p01)
      << ", \"mean\": " << format_json_number(r.min_dihedral.mean) << ", \"below5\": " << r.min_dihedral.below5
      << ", \"below10\": " << r.min_dihedral.below10 << ", \"below15\": " << r.min_dihedral.below15 << "},\n";
+  os << "  \"mean_ratio\": {\"worst\": " << format_json_number(r.mean_ratio.worst)
+     << ", \"worst_tet\": " << r.mean_ratio.worst_tet << ", \"p01\": " << format_json_number(r.mean_ratio.p01)
+     << ", \"mean\": " << format_json_number(r.mean_ratio.mean) << "},\n";
   os << "  \"histogram_5deg\": [";
   for(int i = 0; i < Quality_report::number_of_bins; ++i)
     os << (i ? ", " : "") << r.histogram_5deg[static_cast<std::size_t>(i)];
@@ -515,6 +552,8 @@ inline void print_quality_summary(std::ostream& out, const Quality_report& r)
   os << "  min dihedral (deg): worst " << fixed(md.worst, 2) << " (tet " << md.worst_tet << "), p01 "
      << fixed(md.p01, 2) << ", mean " << fixed(md.mean, 2) << "\n";
   os << "  tets below 5/10/15 deg: " << md.below5 << " / " << md.below10 << " / " << md.below15 << "\n";
+  os << "  mean ratio: worst " << fixed(r.mean_ratio.worst, 3) << " (tet " << r.mean_ratio.worst_tet << "), p01 "
+     << fixed(r.mean_ratio.p01, 3) << ", mean " << fixed(r.mean_ratio.mean, 3) << "\n";
   os << "  metric edge length: min " << fixed(el.min, 3) << ", max " << fixed(el.max, 3) << ", mean "
      << fixed(el.mean, 3) << ", in [0.707, 1.414]: " << fixed(100 * el.in_range_fraction, 1) << "%\n";
   os << "  inverted tets: " << r.inverted_tets << ", flat tets: " << r.degenerate_tets << ", volume "
