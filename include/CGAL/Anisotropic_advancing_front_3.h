@@ -113,6 +113,17 @@ public:
   typedef std::array<int, 3> Triangle;
   typedef std::array<int, 4> Tetrahedron;
 
+  /// the front's state when `Parameters::work_progress` is called
+  struct Work_progress {
+    std::size_t tets = 0;               ///< tets in the mesh now
+    std::size_t front_triangles = 0;    ///< triangles of the front
+    std::size_t waiting_triangles = 0;  ///< front triangles whose Delaunay pair is not removable
+    std::size_t removability_tests = 0; ///< the work so far
+    double work_budget = 0;             ///< the tests after which the cavity fillers close the rest
+    std::size_t best_quality_tets = 0;
+    std::size_t undo_rounds = 0;
+  };
+
   struct Parameters {
     /// candidate search radius around a front triangle, in metric units of its metric
     double search_radius = 1.0;
@@ -130,6 +141,11 @@ public:
     /// called every `progress_interval` tets with (tets, front triangles)
     std::function<void(std::size_t, std::size_t)> progress;
     std::size_t progress_interval = 100000;
+    /// called every `work_report_interval` removability tests: a front that
+    /// keeps failing makes few tets for its work, and `progress` alone would
+    /// leave a long run silent
+    std::function<void(const Work_progress&)> work_progress;
+    std::size_t work_report_interval = 100000;
     /// asked every 1,000 decisions (also during recoveries, from the calling
     /// thread); when it returns true, `run()` throws
     /// `Bubble_mesh_3::Interrupted` (it may also throw itself)
@@ -182,9 +198,10 @@ private:
     bool alive = true;
     bool waiting = false;      // its Delaunay pair was not removable
     bool listed = false;       // in `waiting_` (once, even if woken and waiting again)
-    // while waiting: the box of every node and front triangle its decisions
-    // looked at (its triangle, the Delaunay search, the fallback search); only
-    // a tet added or removed in it can change them
+    // while waiting: the box its decisions depend on (its triangle, the tets
+    // they tested; the scanned boxes when a Delaunay search ended before
+    // covering its winner's sphere); only a tet added in it can change them
+    // (tets are removed only by recoveries, which re-decide every face)
     Box region;
     bool fallback_dirty = true;
     double fallback_quality = -1;
@@ -248,6 +265,7 @@ private:
     face_of_.clear();
     tets_.clear();
     tet_alive_.clear();
+    alive_tets_ = 0;
     tets_of_face_.clear();
     tets_of_face_built_ = false;
     waiting_count_ = 0;
@@ -349,6 +367,7 @@ private:
     const int id = static_cast<int>(tets_.size());
     tets_.push_back(t);
     tet_alive_.push_back(1);
+    ++alive_tets_;
     for(int v : t)
       ++tet_count_[v];
     for(const Triangle& o : F::outward_faces(t)) {
@@ -367,6 +386,7 @@ private:
     namespace F = Bubble_mesh_3::internal::front;
     const Tetrahedron t = tets_[id];
     tet_alive_[id] = 0;
+    --alive_tets_;
     for(int v : t)
       --tet_count_[v];
     for(const Triangle& o : F::outward_faces(t)) {
@@ -600,9 +620,18 @@ private:
       }
       Box sphere;
       const bool has_sphere = circumsphere_box(f, best, m, sphere);
+      if(has_sphere && box.contains(sphere)) {
+        // every live node before `best` would be in its sphere, hence in the
+        // box: `best` is the Delaunay node among all live nodes. Nodes only
+        // die while the front advances, so it stays the answer until it dies
+        // itself, and whether its tet is removable changes only with the
+        // front inside the tet's box: that box is all the decision depends on
+        region = box_of({f[0], f[1], f[2], best});
+        return best;
+      }
       if(has_sphere)
         region.extend(sphere);
-      if(!has_sphere || box.contains(sphere) || attempt == 5)
+      if(!has_sphere || attempt == 5)
         return best;
       box.extend(sphere);
     }
@@ -612,7 +641,9 @@ private:
   // ---------------------------------------------------------- removability
   bool removable(int fid, int p)
   {
-    ++stats_.removability_tests;
+    if(++stats_.removability_tests % std::max<std::size_t>(param_.work_report_interval, 1) == 0 &&
+       param_.work_progress)
+      report_work();
     namespace F = Bubble_mesh_3::internal::front;
     const Triangle f = faces_[fid].v;
     if(traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[p]) != CGAL::POSITIVE)
@@ -693,6 +724,19 @@ private:
     return ok;
   }
 
+  void report_work() const
+  {
+    Work_progress w;
+    w.tets = alive_tets_;
+    w.front_triangles = std::size_t(alive_faces_);
+    w.waiting_triangles = std::size_t(waiting_count_);
+    w.removability_tests = stats_.removability_tests;
+    w.work_budget = work_budget();
+    w.best_quality_tets = stats_.best_quality_tets;
+    w.undo_rounds = stats_.undo_rounds;
+    param_.work_progress(w);
+  }
+
   /// counts decisions and asks `Parameters::should_stop` every 1,000
   void check_stop()
   {
@@ -737,7 +781,6 @@ private:
     std::vector<std::pair<double, int>> ranked;
     for(int attempt = 0; attempt < 3 && ranked.empty(); ++attempt) {
       const Box b = search_box(f, m, double(1 << attempt));
-      extend_region(fid, b);
       candidates(f, b, cand_);
       for(int q : cand_)
         ranked.emplace_back(tet_quality(f, q), q);
@@ -746,12 +789,17 @@ private:
               [this](const std::pair<double, int>& a, const std::pair<double, int>& b) {
                 return a.first > b.first || (a.first == b.first && caller_id(a.second) < caller_id(b.second));
               });
-    for(const auto& r : ranked)
+    // the candidates can only die, so the choice changes only if the
+    // removability of a pair tested here changes (the front or the live
+    // nodes in its tet's box) or the chosen node dies (in its box too)
+    for(const auto& r : ranked) {
+      extend_region(fid, box_of({f[0], f[1], f[2], r.second}));
       if(removable(fid, r.second)) {
         faces_[fid].fallback_quality = r.first;
         faces_[fid].fallback_node = r.second;
         return;
       }
+    }
   }
 
   bool best_quality_step()
@@ -933,10 +981,14 @@ private:
   /// whether the front's work passed `Parameters::removability_tests_per_node`
   /// tests per node (at least 200 nodes' worth: small fronts may take a few
   /// hundred tests per tet); once it has, it stays so for the run
+  double work_budget() const
+  {
+    return param_.removability_tests_per_node * double(std::max<std::size_t>(xyz_.size(), 200));
+  }
+
   bool over_budget()
   {
-    if(double(stats_.removability_tests) >=
-       param_.removability_tests_per_node * double(std::max<std::size_t>(xyz_.size(), 200)))
+    if(double(stats_.removability_tests) >= work_budget())
       stats_.work_limit_reached = true;
     return stats_.work_limit_reached;
   }
@@ -1032,6 +1084,7 @@ private:
     for(const Tetrahedron& t : filled) {
       tets_.push_back(t);
       tet_alive_.push_back(1);
+      ++alive_tets_;
       for(int v : t)
         ++tet_count_[v];
     }
@@ -1081,6 +1134,7 @@ private:
   std::vector<int> waiting_;
   std::vector<int> cand_;
   long alive_faces_ = 0;
+  std::size_t alive_tets_ = 0;
   long budget_ = 0;
   std::size_t decisions_ = 0;
   mutable std::optional<Metric> qi_metric_;

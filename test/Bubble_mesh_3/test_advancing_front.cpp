@@ -281,6 +281,43 @@ TEST(AdvancingFront, WorkBudgetHandsTheRestToTheFillers)
   }
 }
 
+TEST(AdvancingFront, WorkProgressReportsAFrontThatKeepsFailing)
+{
+  // the same stretched case: its front waits on many triangles; the work
+  // reports come every `work_report_interval` tests with the front's state
+  const Domain d = box(1, 1, 1, 0.2, 4, 0.3);
+  Field field(Metric::from_entries(1.0, 0, 0, 16.0, 0, 16.0));
+  Front::Parameters prm;
+  prm.work_report_interval = 25;
+  std::vector<Front::Work_progress> reports;
+  prm.work_progress = [&reports](const Front::Work_progress& w) { reports.push_back(w); };
+  const Front::Result r = Front(field, prm).run(d.points, d.boundary);
+  EXPECT_TRUE(check(r, d).is_valid());
+  const auto& s = r.statistics;
+  ASSERT_EQ(reports.size(), s.removability_tests / 25);
+  bool waited = false;
+  for(std::size_t i = 0; i < reports.size(); ++i) {
+    const Front::Work_progress& w = reports[i];
+    EXPECT_EQ(w.removability_tests, 25 * (i + 1));
+    EXPECT_EQ(w.work_budget, 500.0 * double(std::max<std::size_t>(d.points.size(), 200)));
+    EXPECT_GT(w.front_triangles, 0u);
+    EXPECT_LE(w.waiting_triangles, w.front_triangles);
+    EXPECT_LE(w.tets, r.tets.size());
+    EXPECT_LE(w.best_quality_tets, s.best_quality_tets);
+    waited = waited || w.waiting_triangles > 0;
+    if(i > 0)
+      EXPECT_GE(w.best_quality_tets, reports[i - 1].best_quality_tets);
+  }
+  EXPECT_TRUE(waited) << "the case should make the front wait";
+  // no reports without the callback's interval being reached
+  Front::Parameters quiet;
+  quiet.work_report_interval = 1000000;
+  std::size_t calls = 0;
+  quiet.work_progress = [&calls](const Front::Work_progress&) { ++calls; };
+  Front(field, quiet).run(d.points, d.boundary);
+  EXPECT_EQ(calls, 0u);
+}
+
 TEST(AdvancingFront, RefusesABadWorkBudget)
 {
   Field field(Metric::isotropic(0.2));

@@ -108,6 +108,15 @@ void volume_stage(const MeshDomain& domain, const MetricField& field, const std:
         control.say("advancing front: " + std::to_string(tets) + " tets, front " + std::to_string(front) +
                     " triangles");
     };
+  if(control.says() || control.active())
+    fp.work_progress = [control](const typename Front::Work_progress& w) {
+      control.check("the advancing front");
+      control.say("advancing front: " + std::to_string(w.tets) + " tets, front " + std::to_string(w.front_triangles) +
+                  " triangles (" + std::to_string(w.waiting_triangles) + " with no removable Delaunay pair), " +
+                  std::to_string(w.removability_tests) + " of " + std::to_string(std::size_t(w.work_budget)) +
+                  " removability tests of its work budget, " + std::to_string(w.best_quality_tets) +
+                  " best-quality tets, " + std::to_string(w.undo_rounds) + " recoveries");
+    };
   install_stop_check(fp, control, "the advancing front");
   std::vector<typename Front::Point_3> points;
   points.reserve(out.mesh.points.size());
