@@ -430,6 +430,10 @@ BM::Improvement_report improve_and_check(BM::Indexed_tet_mesh_3& mesh, const Fie
   EXPECT_DOUBLE_EQ(r.worst_after, q_after.min_dihedral.worst);
   EXPECT_DOUBLE_EQ(r.p01_before, q_before.min_dihedral.p01);
   EXPECT_DOUBLE_EQ(r.p01_after, q_after.min_dihedral.p01);
+  EXPECT_EQ(r.edges_in_range_before, q_before.edge_length.in_range_fraction);
+  EXPECT_EQ(r.edges_in_range_after, q_after.edge_length.in_range_fraction);
+  EXPECT_EQ(r.longest_edge_before, q_before.edge_length.max);
+  EXPECT_EQ(r.longest_edge_after, q_after.edge_length.max);
   EXPECT_EQ(r.tets_after, mesh.tets.size());
   EXPECT_EQ(q_after.inverted_tets + q_after.degenerate_tets, 0u);
 

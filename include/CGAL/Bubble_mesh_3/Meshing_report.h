@@ -109,6 +109,10 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"improvement_boundary_fixed\": " << (r.improvement_boundary_fixed ? "true" : "false") << ",\n    \"improvement\": {\"worst_before\": "
     << num(r.improvement.worst_before) << ", \"worst_after\": " << num(r.improvement.worst_after)
     << ", \"p01_before\": " << num(r.improvement.p01_before) << ", \"p01_after\": " << num(r.improvement.p01_after)
+    << ", \"edges_in_range_before\": " << num(r.improvement.edges_in_range_before)
+    << ", \"edges_in_range_after\": " << num(r.improvement.edges_in_range_after)
+    << ", \"longest_edge_before\": " << num(r.improvement.longest_edge_before)
+    << ", \"longest_edge_after\": " << num(r.improvement.longest_edge_after)
     << ", \"flips_2_3\": " << r.improvement.flips_2_3 << ", \"flips_3_2\": " << r.improvement.flips_3_2
     << ", \"flips_4_4\": " << r.improvement.flips_4_4 << ", \"edge_removals\": " << r.improvement.edge_removals
     << ", \"smoothing_moves\": " << r.improvement.smoothing_moves << ", \"edge_splits\": " << r.improvement.edge_splits
@@ -179,6 +183,9 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
                                      std::to_string(i.boundary_edge_collapses) + " on the boundary"
                                : std::string())
       << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
+    o << "improve:  metric edges in [0.707, 1.414] " << 100 * i.edges_in_range_before << " -> "
+      << 100 * i.edges_in_range_after << " %, longest " << i.longest_edge_before << " -> " << i.longest_edge_after
+      << "\n";
     if(r.improvement_boundary_fixed)
       o << "improve:  its first run made the boundary intersect itself at a thin part: redone with the boundary "
            "fixed\n";

@@ -349,6 +349,67 @@ inline std::string fixed(double x, int digits)
   return os.str();
 }
 
+/// Metric lengths of the unique edges of the tets (`used`: the vertices a tet
+/// references): each the mean of its lengths in its end vertices' metrics,
+/// the field evaluated once per used vertex.
+template <typename MetricField_3>
+Quality_report::Edge_length metric_edge_lengths(const Indexed_tet_mesh_3& mesh, const MetricField_3& field,
+                                                const std::vector<char>& used)
+{
+  typedef typename MetricField_3::Point_3 Field_point;
+  const std::size_t np = mesh.points.size();
+  // vertex metrics (six entries each), one evaluation per referenced vertex.
+  std::vector<std::array<double, 6>> vertex_metrics(np);
+  internal::quality_parallel_for(np, [&](std::size_t begin, std::size_t end) {
+    for(std::size_t v = begin; v < end; ++v)
+      if(used[v]) {
+        const std::array<double, 3>& p = mesh.points[v];
+        const auto& m = field(Field_point(p[0], p[1], p[2]));
+        const Metric_3& metric = m;
+        vertex_metrics[v] = metric.entries();
+      }
+  });
+
+  // unique edges and their lengths
+  std::vector<std::size_t> offsets;
+  std::vector<int> targets;
+  internal::unique_tet_edges(mesh, offsets, targets);
+  std::vector<double> lengths(targets.size());
+  internal::quality_parallel_for(np, [&](std::size_t begin, std::size_t end) {
+    for(std::size_t a = begin; a < end; ++a) {
+      const std::array<double, 3>& pa = mesh.points[a];
+      for(std::size_t k = offsets[a]; k < offsets[a + 1]; ++k) {
+        const std::size_t b = static_cast<std::size_t>(targets[k]);
+        const std::array<double, 3>& pb = mesh.points[b];
+        const double x = pb[0] - pa[0];
+        const double y = pb[1] - pa[1];
+        const double z = pb[2] - pa[2];
+        lengths[k] = 0.5 * (internal::length_in_entries(vertex_metrics[a], x, y, z) +
+                            internal::length_in_entries(vertex_metrics[b], x, y, z));
+      }
+    }
+  });
+
+  Quality_report::Edge_length el;
+  el.number_of_edges = lengths.size();
+  if(!lengths.empty()) {
+    const double low = 1 / std::sqrt(2.0);
+    const double high = std::sqrt(2.0);
+    el.min = lengths[0];
+    el.max = lengths[0];
+    std::size_t in_range = 0;
+    for(double l : lengths) {
+      el.min = std::min(el.min, l);
+      el.max = std::max(el.max, l);
+      if(l >= low && l <= high)
+        ++in_range;
+    }
+    el.mean = internal::compensated_sum(lengths) / static_cast<double>(lengths.size());
+    el.in_range_fraction = static_cast<double>(in_range) / static_cast<double>(lengths.size());
+  }
+  return el;
+}
+
 } // namespace internal
 
 /// \ingroup PkgBubbleMesh3Functions
@@ -389,14 +450,12 @@ template <typename MetricField_3>
 Quality_report compute_quality_report(const Indexed_tet_mesh_3& mesh, const MetricField_3& field,
                                       const std::string& metric_description = std::string())
 {
-  typedef typename MetricField_3::Point_3 Field_point;
   std::vector<char> used;
   internal::check_mesh_for_quality(mesh, used);
 
   Quality_report report;
   report.metric_description = metric_description;
   report.tets = mesh.tets.size();
-  const std::size_t np = mesh.points.size();
   report.vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), char(1)));
 
   // Per-tet measures.
@@ -406,38 +465,6 @@ Quality_report compute_quality_report(const Indexed_tet_mesh_3& mesh, const Metr
   std::vector<signed char> orientations;
   std::vector<double> ratios;
   internal::compute_tet_measures(mesh, field, angles, &volumes, &metric_volumes, &orientations, &ratios);
-
-  // Vertex metrics (six entries each), one evaluation per referenced vertex.
-  std::vector<std::array<double, 6>> vertex_metrics(np);
-  internal::quality_parallel_for(np, [&](std::size_t begin, std::size_t end) {
-    for(std::size_t v = begin; v < end; ++v)
-      if(used[v]) {
-        const std::array<double, 3>& p = mesh.points[v];
-        const auto& m = field(Field_point(p[0], p[1], p[2]));
-        const Metric_3& metric = m;
-        vertex_metrics[v] = metric.entries();
-      }
-  });
-
-  // Unique edges and their lengths.
-  std::vector<std::size_t> offsets;
-  std::vector<int> targets;
-  internal::unique_tet_edges(mesh, offsets, targets);
-  std::vector<double> lengths(targets.size());
-  internal::quality_parallel_for(np, [&](std::size_t begin, std::size_t end) {
-    for(std::size_t a = begin; a < end; ++a) {
-      const std::array<double, 3>& pa = mesh.points[a];
-      for(std::size_t k = offsets[a]; k < offsets[a + 1]; ++k) {
-        const std::size_t b = static_cast<std::size_t>(targets[k]);
-        const std::array<double, 3>& pb = mesh.points[b];
-        const double x = pb[0] - pa[0];
-        const double y = pb[1] - pa[1];
-        const double z = pb[2] - pa[2];
-        lengths[k] = 0.5 * (internal::length_in_entries(vertex_metrics[a], x, y, z) +
-                            internal::length_in_entries(vertex_metrics[b], x, y, z));
-      }
-    }
-  });
 
   // Serial reductions in index order.
   Quality_report::Min_dihedral& md = report.min_dihedral;
@@ -473,23 +500,7 @@ Quality_report compute_quality_report(const Indexed_tet_mesh_3& mesh, const Metr
   mr.mean = internal::compensated_sum(ratios) / static_cast<double>(ratios.size());
   mr.p01 = nearest_rank_percentile(std::move(ratios), 1.0);
 
-  Quality_report::Edge_length& el = report.edge_length;
-  el.number_of_edges = lengths.size();
-  if(!lengths.empty()) {
-    const double low = 1 / std::sqrt(2.0);
-    const double high = std::sqrt(2.0);
-    el.min = lengths[0];
-    el.max = lengths[0];
-    std::size_t in_range = 0;
-    for(double l : lengths) {
-      el.min = std::min(el.min, l);
-      el.max = std::max(el.max, l);
-      if(l >= low && l <= high)
-        ++in_range;
-    }
-    el.mean = internal::compensated_sum(lengths) / static_cast<double>(lengths.size());
-    el.in_range_fraction = static_cast<double>(in_range) / static_cast<double>(lengths.size());
-  }
+  report.edge_length = internal::metric_edge_lengths(mesh, field, used);
   return report;
 }
 

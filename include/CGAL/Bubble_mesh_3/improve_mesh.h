@@ -291,6 +291,13 @@ struct Improvement_report {
   std::size_t below_target_after = 0;
   std::size_t tets_before = 0;
   std::size_t tets_after = 0;
+  /// fraction of the unique edges whose metric length lies in [1/sqrt(2),
+  /// sqrt(2)] (as in `compute_quality_report()`), and the longest: the
+  /// improvement raises angles and may trade edge conformity for them
+  double edges_in_range_before = 0;
+  double edges_in_range_after = 0;
+  double longest_edge_before = 0;
+  double longest_edge_after = 0;
   std::size_t flips_2_3 = 0;
   std::size_t flips_3_2 = 0;
   std::size_t flips_4_4 = 0;
@@ -359,6 +366,14 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   Improvement_report report;
   if(mesh.tets.empty())
     return report;
+  auto edge_lengths = [&field](const Indexed_tet_mesh_3& m) {
+    std::vector<char> used;
+    internal::check_mesh_for_quality(m, used);
+    return internal::metric_edge_lengths(m, field, used);
+  };
+  const Quality_report::Edge_length before = edge_lengths(mesh);
+  report.edges_in_range_before = before.in_range_fraction;
+  report.longest_edge_before = before.max;
   internal::improve::Mutable_tet_mesh work(mesh, options.ref_0_is_exterior,
                                           options.boundary_smoothing ? options.surface_projection : nullptr,
                                           options.boundary_smoothing ? options.curve_projection : nullptr);
@@ -393,6 +408,9 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   internal::improvement_statistics(improver.qualities(), options.target_angle, report.worst_after,
                                    report.p01_after, report.mean_after, report.below_target_after);
   report.new_vertex_index = work.write_back(mesh);
+  const Quality_report::Edge_length after = edge_lengths(mesh);
+  report.edges_in_range_after = after.in_range_fraction;
+  report.longest_edge_after = after.max;
 
   const internal::improve::Improver_counters& c = improver.counters();
   report.flips_2_3 = c.flips_2_3;
