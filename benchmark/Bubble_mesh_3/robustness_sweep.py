@@ -8,8 +8,9 @@ For each surface the first run tells whether the input is accepted: a refusal
 (exit 2: open, self-intersecting, ...) is listed with the tool's message and
 the surface is skipped. Every other run must give a valid mesh (exit 0); the
 table gives vertices, input vertices kept as nodes by the boundary front,
-worst / p01 metric minimum dihedral angle, volume error, largest distance of
-the boundary to the input surface, seconds. Exit status: 0 when every run on
+worst / p01 metric minimum dihedral angle, worst metric mean ratio, metric
+edges in [1/sqrt2, sqrt2] (after the improvement, and before it), volume
+error, largest distance of the boundary to the input surface, seconds. Exit status: 0 when every run on
 an accepted surface gave a mesh and met the quality floors given by
 --min-worst-iso / --min-worst-aniso (at sizes diag/30 and finer), 1 otherwise.
 
@@ -144,6 +145,9 @@ def run_case(tool, surface, fraction, metric, seed, out_dir, time_limit, threads
         m = r.get("meshing", {})
         row.update(vertices=r.get("vertices"), tets=r.get("tets"), worst=r.get("min_dihedral", {}).get("worst"),
                    p01=r.get("min_dihedral", {}).get("p01"), added=m.get("added_boundary_nodes", 0),
+                   mean_ratio=r.get("mean_ratio", {}).get("worst"),
+                   in_range=r.get("edge_length", {}).get("in_range_fraction"),
+                   in_range_front=m.get("improvement", {}).get("edges_in_range_before"),
                    volume_error=m.get("volume_error"), distance=m.get("surface_distance"),
                    distance_rel=m.get("surface_distance_relative"))
         # how often the front's fallbacks ran (issue 20: prefer the project's own recovery)
@@ -231,14 +235,17 @@ def main():
             report(row)
     rows.sort(key=lambda r: (r["surface"], r["fraction"], metrics.index(r["metric"]), r["seed"]))
     lines = ["| surface | input wedge (deg) | size | metric | seed | exit | vertices | added nodes | worst (deg) | "
-             "p01 (deg) | volume error | distance / diag | seconds |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "p01 (deg) | worst mean ratio | edges in range (front) | volume error | distance / diag | seconds |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    def percent(x):
+        return "-" if x is None else "%.1f %%" % (100 * x)
     for r in rows:
         ve = r.get("volume_error")
-        lines.append("| %s | %s | d/%d | %s | %d | %d%s | %s | %s | %s | %s | %s | %s | %.1f |" % (
+        lines.append("| %s | %s | d/%d | %s | %d | %d%s | %s | %s | %s | %s | %s | %s (%s) | %s | %s | %.1f |" % (
             r["surface"], fmt(wedges.get(r["surface"]), ".1f"), r["fraction"], r["metric"], r["seed"], r["exit"],
             (" (" + r["message"][:80].replace("|", "/") + ")") if r["exit"] else "",
             fmt(r.get("vertices"), "d"), fmt(r.get("added"), "d"), fmt(r.get("worst"), ".1f"), fmt(r.get("p01"), ".1f"),
+            fmt(r.get("mean_ratio"), ".3f"), percent(r.get("in_range")), percent(r.get("in_range_front")),
             "-" if ve is None else "%.2f %%" % (100 * ve), fmt(r.get("distance_rel"), ".2e"), r["seconds"]))
     ok = sum(1 for r in rows if r["exit"] == 0)
     signalled = [r for r in rows if r["exit"] < 0]
