@@ -537,6 +537,55 @@ TEST(ImproveMesh, VaryingMetricField)
   EXPECT_GT(r.worst_after, r.worst_before + 5);
 }
 
+// Smoothing alone (no flips: the edges stay the same) on the varying field:
+// with keep_edges_in_range every edge in [1/sqrt2, sqrt2] before is still in
+// it after; without, some leave it (the angles are bought with lengths)
+TEST(ImproveMesh, KeepEdgesInRangeDuringSmoothing)
+{
+  auto f = [](const K::Point_3& p) {
+    const double h = 0.05 + 0.1 * p.x();
+    return BM::Metric_3::from_directions_and_sizes(M3::Identity(), V3(h, h, 0.5 * h));
+  };
+  auto field = CGAL::make_function_metric_field_3<K>(f);
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(grid_cube_points(8, 800, 0.05, 5));
+  auto lengths = [&field](const BM::Indexed_tet_mesh_3& m) {
+    std::map<std::pair<int, int>, double> out;
+    for(const auto& t : m.tets)
+      for(int i = 0; i < 4; ++i)
+        for(int j = i + 1; j < 4; ++j) {
+          const int a = std::min(t[i], t[j]), b = std::max(t[i], t[j]);
+          const V3 pa(m.points[a][0], m.points[a][1], m.points[a][2]), pb(m.points[b][0], m.points[b][1], m.points[b][2]);
+          const BM::Metric_3 ma = field(K::Point_3(pa[0], pa[1], pa[2])), mb = field(K::Point_3(pb[0], pb[1], pb[2]));
+          out[{a, b}] = 0.5 * (ma.length(pb - pa) + mb.length(pb - pa));
+        }
+    return out;
+  };
+  auto in_range = [](double l) { return l >= std::sqrt(0.5) && l <= std::sqrt(2.0); };
+  const auto before = lengths(input);
+  std::size_t left[2] = {0, 0};
+  double worst[2] = {0, 0};
+  for(int keep = 0; keep < 2; ++keep) {
+    BM::Indexed_tet_mesh_3 mesh = input;
+    BM::Improvement_options o = deterministic();
+    o.flips = false;
+    o.keep_edges_in_range = keep == 1;
+    const BM::Improvement_report r = improve_and_check(mesh, field, keep ? "smoothing, edges kept" : "smoothing", o);
+    worst[keep] = r.worst_after;
+    EXPECT_GT(r.smoothing_moves, 100u);
+    const auto after = lengths(mesh);
+    ASSERT_EQ(after.size(), before.size()); // no flips: the same edges
+    for(const auto& e : before)
+      if(in_range(e.second) && !in_range(after.at(e.first)))
+        ++left[keep];
+    if(keep)
+      EXPECT_GE(r.edges_in_range_after, r.edges_in_range_before);
+  }
+  std::printf("edges leaving [1/sqrt2, sqrt2]: %zu without the constraint, %zu with it; worst %.2f / %.2f deg\n",
+              left[0], left[1], worst[0], worst[1]);
+  EXPECT_GT(left[0], 0u) << "the case should make unconstrained smoothing trade lengths for angles";
+  EXPECT_EQ(left[1], 0u);
+}
+
 TEST(ImproveMesh, TwoSubdomainsAreKeptApart)
 {
   BM::Indexed_tet_mesh_3 mesh =

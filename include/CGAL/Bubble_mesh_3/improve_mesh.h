@@ -242,6 +242,13 @@ struct Improvement_options {
   /// degree. Removes vertices and listed triangles, renumbering the rest
   /// (`Improvement_report::new_vertex_index`). Off by default, like the splits.
   bool edge_collapses = false;
+  /// interior vertex moves keep every edge of the vertex that is in [1/sqrt(2),
+  /// sqrt(2)] in the metric in that range (boundary moves always do), so the
+  /// smoothing does not buy angles with edge lengths. Off by default (as
+  /// before); on in the pipeline: on UGAWG polar-1 at sizes x2 the edges in
+  /// range go from 71.7 % to 74.6 % instead of 62.3 %, the worst angle
+  /// 9.8 degrees instead of 10.6
+  bool keep_edges_in_range = false;
   /// seed of those random trial moves (the result is a function of it)
   unsigned random_seed = 0;
   /// tets of ref 0 are padding outside the domain (as the cells outside the
@@ -395,6 +402,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   settings.edge_splits = options.edge_splits;
   settings.split_below_angle = options.split_below_angle;
   settings.edge_collapses = options.edge_collapses;
+  settings.keep_edges_in_range = options.keep_edges_in_range;
   settings.should_stop = options.should_stop;
 
   internal::improve::Mesh_improver<MetricField_3> improver(work, field, settings);

@@ -72,6 +72,9 @@ struct Improver_settings {
   /// before the splits: collapse a short edge of each tet still below
   /// `split_below_angle` (see `Mesh_improver::collapse_phase()`); removes vertices
   bool edge_collapses = false;
+  /// interior vertex moves keep the vertex's edges that are in [1/sqrt2,
+  /// sqrt2] in that range, as boundary moves always do
+  bool keep_edges_in_range = false;
   unsigned random_seed = 0;
   /// polled with the clock; true stops the work like the time limit
   std::function<bool()> should_stop;
@@ -845,7 +848,7 @@ private:
     // mean of its lengths in the two end metrics). Without the last rule the
     // elephant's boundary layer lost 1 % of its edges in range.
     b.cos_turn = cos_of_largest_boundary_turn();
-    if(b.on_surface)
+    if(b.on_surface || s_.keep_edges_in_range)
       collect_conforming_edges(b);
     return true;
   }
@@ -879,8 +882,9 @@ private:
     return !b.surface_faces.empty();
   }
 
-  /// the neighbours of a surface vertex joined by an edge in range, whose
-  /// edges a move must keep in range
+  /// the neighbours of a vertex joined by an edge in range, whose edges a
+  /// move must keep in range (surface vertices always; interior ones with
+  /// `keep_edges_in_range`)
   void collect_conforming_edges(Smoothing_ball& b) const
   {
     std::vector<int> neighbours;
@@ -937,14 +941,20 @@ private:
       if(!(n.dot(sf.second) > b.cos_turn * n.norm() * sf.second.norm()))
         return false;
     }
-    if(!b.conforming.empty()) {
-      const Metric_3 mc = quality_.metric_at(candidate);
-      for(const auto& c : b.conforming) {
-        const Eigen::Vector3d d = P(c.first) - candidate;
-        const double l = 0.5 * (mc.length(d) + c.second.length(d));
-        if(!(l >= std::sqrt(0.5) && l <= std::sqrt(2.0)))
-          return false;
-      }
+    return keeps_edges_in_range(b, candidate);
+  }
+
+  /// whether the edges of `b.conforming` stay in range with the vertex at `candidate`
+  bool keeps_edges_in_range(const Smoothing_ball& b, const Eigen::Vector3d& candidate) const
+  {
+    if(b.conforming.empty())
+      return true;
+    const Metric_3 mc = quality_.metric_at(candidate);
+    for(const auto& c : b.conforming) {
+      const Eigen::Vector3d d = P(c.first) - candidate;
+      const double l = 0.5 * (mc.length(d) + c.second.length(d));
+      if(!(l >= std::sqrt(0.5) && l <= std::sqrt(2.0)))
+        return false;
     }
     return true;
   }
@@ -956,7 +966,7 @@ private:
     const Eigen::Vector3d candidate = b.constrained ? m_.project(b.v, raw) : raw;
     if(candidate == b.x || !candidate.allFinite())
       return false;
-    if(b.on_surface && !surface_move_ok(b, candidate))
+    if(b.on_surface ? !surface_move_ok(b, candidate) : !keeps_edges_in_range(b, candidate))
       return false;
     const double w = ball_quality(b, candidate, b.current + Smoothing_ball::minimum_gain);
     if(w > b.current + Smoothing_ball::minimum_gain) {
