@@ -319,7 +319,10 @@ public:
       return;
     std::vector<char> row(n, 1);
     Bubble_mesh_3::internal::packing::Neighbour_lists lists;
-    lists.build(bubbles_, row, 1.5, exec_);
+    // (the two sides of a thin part do not count as neighbours: see on_opposite_sides)
+    lists.build(bubbles_, row, 1.5, exec_, [this](int i, int j) {
+      return Bubble_mesh_3::internal::packing::on_opposite_sides(bubbles_[std::size_t(i)], bubbles_[std::size_t(j)]);
+    });
     std::vector<double> nearest(n, 1.5);
     exec_.for_each(n, [&](std::size_t i) {
       for(const int* j = lists.begin(i); j != lists.end(i); ++j)

@@ -7,6 +7,8 @@
 
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/internal/packing/domain_oracle.h>
+#include <CGAL/Bubble_mesh_3/internal/surface_thickness.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Fuzzy_sphere.h>
@@ -56,6 +58,12 @@ namespace CGAL {
 ///     twice the straight one);
 ///   - the length of the curve (a third of it for a closed curve: it needs
 ///     three nodes);
+/// and the *thickness* of thin parts at samples `s` of the surface: the
+/// distance to the surface straight inside `s`, where the inward ray leaves
+/// the part through a face turned against `s`'s (a plate, a blade, a wall;
+/// given as `Facing_pair`s), unless a corner or curve is within twice that
+/// distance of `s` (a sharp wedge is thin near its edge too, but finer
+/// elements there do not make its tets better);
 /// (a pair whose distance is at least 1 in the user's metric at `s` counts
 /// for nothing: an anisotropic metric fine across a thin plate resolves its
 /// rims already)
@@ -90,12 +98,18 @@ public:
     bool closed = false;
   };
 
+  /// a surface point and the point straight inside it on the other side of
+  /// a thin part (`Bubble_mesh_3::internal::facing_pairs` computes them)
+  typedef Bubble_mesh_3::internal::Facing_pair Facing_pair;
+
   /// What the field found; sizes are in the input's units.
   struct Statistics {
     std::size_t samples = 0;         ///< corner and curve samples compared
     std::size_t refined_samples = 0; ///< samples where the features ask for smaller sizes
     std::size_t kept_samples = 0;    ///< of those, the ones not implied by another (queried)
     std::size_t floored_samples = 0; ///< samples whose feature size was raised to the floor
+    std::size_t thickness_samples = 0; ///< facing pairs compared (thin-part candidates)
+    std::size_t thin_samples = 0;      ///< of those, the ones that ask for smaller sizes (counted in refined_samples)
     double smallest_size = std::numeric_limits<double>::infinity(); ///< smallest feature size asked
     double smallest_ratio = std::numeric_limits<double>::infinity(); ///< its smallest ratio to the user's size
     double seconds = 0;                                              ///< time the construction took
@@ -104,11 +118,13 @@ public:
   /// A field that is `field` itself.
   explicit Feature_size_metric_field_3(const MetricField& field) : field_(field), data_(std::make_shared<Data>()) {}
 
-  /// `corners` and `curves` are the domain's features; `gradation` the growth
+  /// `corners` and `curves` are the domain's features, `facing` the pairs
+  /// across its thin parts; `gradation` the growth
   /// of the size asked per unit distance from a small feature (> 0). Throws
   /// `Bubble_mesh_3::Invalid_input` for a bad gradation or curve.
   Feature_size_metric_field_3(const MetricField& field, const std::vector<Point>& corners,
-                              const std::vector<Curve>& curves, double gradation = 0.5)
+                              const std::vector<Curve>& curves, double gradation = 0.5,
+                              const std::vector<Facing_pair>& facing = {})
       : field_(field), data_(std::make_shared<Data>())
   {
     if(!(gradation > 0) || !std::isfinite(gradation))
@@ -122,7 +138,7 @@ public:
     }
     data_->gradation = gradation;
     const auto t0 = std::chrono::steady_clock::now();
-    build(corners, curves);
+    build(corners, curves, facing);
     data_->statistics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
@@ -242,16 +258,19 @@ private:
     return {1 / std::sqrt(eig.eigenvalues().minCoeff()), 1 / std::sqrt(eig.eigenvalues().maxCoeff())};
   }
 
-  void build(const std::vector<Point>& corners, const std::vector<Curve>& curves)
+  void build(const std::vector<Point>& corners, const std::vector<Curve>& curves,
+             const std::vector<Facing_pair>& facing)
   {
     Data& d = *data_;
     std::vector<double> length;
     const std::vector<Sample> samples = feature_samples(corners, curves, length);
     d.statistics.samples = samples.size();
-    if(samples.empty())
-      return; // no corners and no curves (a torus, a sphere): nothing to refine
     double largest_reach = 0;
-    std::vector<Source> refining = refining_sources(samples, corners, curves, length, largest_reach);
+    // (no corners and no curves, a torus, a sphere: only thin parts refine)
+    std::vector<Source> refining;
+    if(!samples.empty())
+      refining = refining_sources(samples, corners, curves, length, largest_reach);
+    thin_part_sources(samples, facing, refining, largest_reach);
     if(refining.empty())
       return;
     index_sources(refining, largest_reach);
@@ -391,6 +410,58 @@ private:
       largest_reach = std::max(largest_reach, reach(refining.back(), h));
     }
     return refining;
+  }
+
+  /// the facing pairs across parts thinner than the user's size (and its
+  /// metric: a pair of metric length 1 or more asks for nothing), far enough
+  /// from corners and curves, as sources of their thickness (floored like
+  /// the others), appended to `refining`
+  void thin_part_sources(const std::vector<Sample>& samples, const std::vector<Facing_pair>& facing,
+                         std::vector<Source>& refining, double& largest_reach)
+  {
+    Data& d = *data_;
+    d.statistics.thickness_samples = facing.size();
+    if(facing.empty())
+      return;
+    std::vector<Indexed_point> indexed;
+    indexed.reserve(samples.size());
+    for(std::size_t i = 0; i < samples.size(); ++i)
+      indexed.emplace_back(EK::Point_3(samples[i].p[0], samples[i].p[1], samples[i].p[2]), int(i));
+    Tree tree(indexed.begin(), indexed.end());
+    if(!indexed.empty())
+      tree.build();
+    std::vector<Indexed_point> found;
+    for(const Facing_pair& pair : facing) {
+      const Eigen::Vector3d p = vec(pair.p), q = vec(pair.q);
+      const double t = (q - p).norm();
+      const Metric user = field_(Point_3(p[0], p[1], p[2]));
+      const std::pair<double, double> hs = sizes_of(user);
+      const double h = hs.first;
+      if(!(t < h) || !(user.length(Eigen::Vector3d(q - p)) < 1))
+        continue;
+      // a corner or curve near p: a wedge's edge or a plate's rim, which the
+      // corner and curve samples size already (curve samples are at most a
+      // quarter of the smallest size apart, hence the second bound)
+      if(!indexed.empty()) {
+        found.clear();
+        tree.search(std::back_inserter(found),
+                    Sphere(EK::Point_3(p[0], p[1], p[2]), std::max(2 * t, 0.25 * hs.second)));
+        if(!found.empty())
+          continue;
+      }
+      ++d.statistics.refined_samples;
+      ++d.statistics.thin_samples;
+      double a = t;
+      const double floor = smallest_relative_size() * h;
+      if(a < floor) {
+        a = floor;
+        ++d.statistics.floored_samples;
+      }
+      d.statistics.smallest_size = std::min(d.statistics.smallest_size, a);
+      d.statistics.smallest_ratio = std::min(d.statistics.smallest_ratio, a / h);
+      refining.push_back(Source{p, a, h});
+      largest_reach = std::max(largest_reach, reach(refining.back(), h));
+    }
   }
 
   /// keeps the sources no other one implies, listed in hash-grid cells each
@@ -545,7 +616,22 @@ make_feature_size_metric_field_3(const MeshDomain& domain, const MetricField& fi
       c.points.push_back(point(std::get<2>(t).first));
     curves.push_back(std::move(c));
   }
-  return Field(field, corners, curves, gradation);
+  std::vector<typename Field::Facing_pair> facing;
+  if constexpr(Bubble_mesh_3::internal::packing::Has_polyhedra<MeshDomain>::value) {
+    auto sizes = [&](const std::array<double, 3>& p) {
+      const auto m = field(Point_3(p[0], p[1], p[2]));
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(m.matrix(), Eigen::EigenvaluesOnly);
+      return std::make_pair(1 / std::sqrt(eig.eigenvalues().minCoeff()), 1 / std::sqrt(eig.eigenvalues().maxCoeff()));
+    };
+    // rays half the largest size apart (the thickness is a property of the
+    // shape, not of the metric's directions), as long as the largest size
+    facing = Bubble_mesh_3::internal::facing_pairs(
+        Bubble_mesh_3::internal::front::boundary_surface_from_polyhedral_domain(domain),
+        [&](const std::array<double, 3>& p) { return 0.5 * sizes(p).first; },
+        [&](const std::array<double, 3>& p) { return sizes(p).first; });
+  }
+  return Field(field, corners, curves, gradation, facing);
 }
 
 

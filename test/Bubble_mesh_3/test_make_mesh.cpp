@@ -379,13 +379,19 @@ TEST(MakeMesh, CoarseSizesAndTipsGiveValidMeshes)
   // a spindle: two thin tips on the axis, a sharp ring at the waist
   const std::string spindle = revolution_off({{0, 0}, {0.05, 0.2}, {0.2, 0.8}, {0.6, 1.5}, {0.2, 2.2}, {0.05, 2.8}, {0, 3}}, 48);
   struct Case {
-    const char* name;
+    std::string name;
     std::string off;
     double size;
   };
-  const std::vector<Case> cases = {{"cylinder 1.2", cylinder_off(), 1.2}, {"cylinder 2.5", cylinder_off(), 2.5},
-                                   {"cylinder 10", cylinder_off(), 10},   {"spindle 0.6", spindle, 0.6},
-                                   {"spindle 1.5", spindle, 1.5},         {"torus 0.9", torus_off(), 0.9}};
+  std::vector<Case> cases = {{"cylinder 1.2", cylinder_off(), 1.2}, {"cylinder 2.5", cylinder_off(), 2.5},
+                             {"cylinder 10", cylinder_off(), 10},   {"spindle 0.6", spindle, 0.6},
+                             {"spindle 1.5", spindle, 1.5},         {"torus 0.9", torus_off(), 0.9}};
+  // and a range of sizes, so that some case leaves the improvement stuck
+  // (its edge splits and collapses are checked through the C3T3 below)
+  for(double size : {0.25, 0.3, 0.35, 0.45, 0.5, 0.7, 0.8, 1.0}) {
+    cases.push_back(Case{"spindle " + std::to_string(size), spindle, size});
+    cases.push_back(Case{"torus " + std::to_string(size), torus_off(), size});
+  }
   std::size_t added = 0;
   const Case* most_changed = nullptr; // by the improvement's splits and collapses
   std::size_t most_changes = 0;
@@ -420,7 +426,7 @@ TEST(MakeMesh, CoarseSizesAndTipsGiveValidMeshes)
     for(int ref : o.mesh.edge_refs)
       EXPECT_EQ(ids.count(ref), 1u) << "a feature edge on curve " << ref << ", which the domain does not have";
     const auto q = BM::compute_quality_report(o.mesh, field);
-    print(c.name, o, q);
+    print(c.name.c_str(), o, q);
     std::cout << "  added boundary nodes " << o.report.added_boundary_nodes << ", volume error "
               << o.report.volume_error << ", surface distance " << o.report.surface_distance << "\n";
     EXPECT_GT(q.min_dihedral.worst, 0.0);

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -462,6 +463,59 @@ TEST(FeatureSizeField, RefinesWhereFeaturesAreCloserThanTheSize)
   EXPECT_THROW(Field(user, corners, {curve({{{0, 0, 0}}}, 0, 1)}, 0.5), CGAL::Bubble_mesh_3::Invalid_input);
   EXPECT_THROW(Field(user, corners, {curve({{{0, 0, 0}}, {{1, 0, 0}}}, 0, 9)}, 0.5),
                CGAL::Bubble_mesh_3::Invalid_input);
+}
+
+// Thin parts: a plate thinner than the size is refined to its thickness
+// (rays from each face leave through the face turned against it); a thick
+// box, a metric already fine across the plate, and the plate's rims (a
+// curve within twice the thickness) are not.
+TEST(FeatureSizeField, ThinPartsRefinedToTheirThickness)
+{
+  typedef CGAL::Constant_metric_field_3<K> User;
+  typedef CGAL::Feature_size_metric_field_3<User> Field;
+  auto box = [](double a, double b, double c) {
+    CGAL::Bubble_mesh_3::internal::front::Boundary_surface s;
+    s.points = {{{0, 0, 0}}, {{a, 0, 0}}, {{a, b, 0}}, {{0, b, 0}}, {{0, 0, c}}, {{a, 0, c}}, {{a, b, c}}, {{0, b, c}}};
+    s.triangles = {{{0, 3, 2}}, {{0, 2, 1}}, {{4, 5, 6}}, {{4, 6, 7}}, {{0, 1, 5}}, {{0, 5, 4}},
+                   {{1, 2, 6}}, {{1, 6, 5}}, {{2, 3, 7}}, {{2, 7, 6}}, {{3, 0, 4}}, {{3, 4, 7}}};
+    s.patches.assign(12, 0);
+    return s;
+  };
+  auto pairs_of = [](const CGAL::Bubble_mesh_3::internal::front::Boundary_surface& s, double reach) {
+    return CGAL::Bubble_mesh_3::internal::facing_pairs(
+        s, [](const std::array<double, 3>&) { return 0.25; }, [&](const std::array<double, 3>&) { return reach; });
+  };
+  const auto plate = pairs_of(box(6, 6, 0.2), 1.0);
+  ASSERT_GT(plate.size(), 500u); // both 6 x 6 faces, rays 0.25 apart
+  for(const auto& pr : plate) {
+    const double t = std::sqrt((pr.q[0] - pr.p[0]) * (pr.q[0] - pr.p[0]) + (pr.q[1] - pr.p[1]) * (pr.q[1] - pr.p[1]) +
+                               (pr.q[2] - pr.p[2]) * (pr.q[2] - pr.p[2]));
+    EXPECT_NEAR(t, 0.2, 1e-9); // only across the plate: the sides are 6 apart, beyond the reach
+  }
+  EXPECT_TRUE(pairs_of(box(6, 6, 3), 1.0).empty());
+  const User user(Metric_3::isotropic(1.0));
+  const Field refined(user, {}, {}, 0.5, plate);
+  ASSERT_TRUE(refined.refines());
+  EXPECT_EQ(refined.statistics().thin_samples, plate.size());
+  const double mid = refined.feature_size(K::Point_3(3, 3, 0.2));
+  EXPECT_GE(mid, 0.2 - 1e-9);
+  EXPECT_LE(mid, 0.2 + 0.5 * 0.25);
+  EXPECT_GE(refined.feature_size(K::Point_3(3, 3, 5)), 1.0); // far above: the user's size
+  // a metric of size 0.05 across the plate resolves it already
+  const User fine_across(Metric_3::from_entries(1, 0, 0, 1, 0, 400));
+  EXPECT_FALSE(CGAL::Feature_size_metric_field_3<User>(fine_across, {}, {}, 0.5, plate).refines());
+  // a rim curve along y = 0 on the top face: rays within 0.4 of it do not count
+  Field::Curve rim;
+  rim.points = {{{0, 0, 0.2}}, {{6, 0, 0.2}}};
+  rim.first_corner = 0;
+  rim.last_corner = 1;
+  const Field with_rim(user, {{{0, 0, 0.2}}, {{6, 0, 0.2}}}, {rim}, 0.5, plate);
+  auto count = [&](double lo, double hi) {
+    return std::size_t(std::count_if(plate.begin(), plate.end(), [&](const auto& pr) { return pr.p[1] > lo && pr.p[1] < hi; }));
+  };
+  EXPECT_GT(count(-1, 0.3), 0u);
+  EXPECT_LE(with_rim.statistics().thin_samples, plate.size() - count(-1, 0.3)); // all within 0.38 of the rim go
+  EXPECT_GE(with_rim.statistics().thin_samples, count(0.45, 7));                 // all beyond 0.4 stay
 }
 
 } // namespace

@@ -425,6 +425,41 @@ TEST(BubblePacker, PlanarSquares2D)
   EXPECT_LE(coverage, 0.75);
 }
 
+// A plate thinner than the size: the bubbles of its two faces ignore each
+// other (normals opposite), so each face is covered as a lone square would
+// be (measured one size away from the rims: the rim curves, 0.4 apart in
+// the metric, still repel each other; the pipeline's feature sizes refine
+// them). When they repelled each other across the plate, population control
+// left one face's bubbles where the other face had none: holes of about
+// twice the size in both faces, and slivers spanning the plate.
+TEST(BubblePacker, ThinPlateBothFacesCovered)
+{
+  const double t = 0.1, h = 0.25;
+  Polyhedron p = make_box(2, 2, t);
+  Domain domain(p);
+  domain.detect_features(60);
+  Constant_field field = Constant_field::isotropic(h);
+  Constant_packer packer(domain, field);
+  packer.pack_corners();
+  packer.pack_curves();
+  packer.pack_surfaces();
+  for(double z : {0.0, t}) {
+    std::vector<Vec3> face;
+    for(const auto& nd : packer.nodes())
+      if(nd.dimension <= 2 && std::abs(vec(nd.point)[2] - z) < 1e-12)
+        face.push_back(vec(nd.point));
+    Mapped_points mp(face, field.metric());
+    double coverage = 0;
+    const int n = 40;
+    for(int i = 0; i <= n; ++i)
+      for(int j = 0; j <= n; ++j)
+        coverage = std::max(coverage, mp.nearest(Vec3(h + (2 - 2 * h) * i / n, h + (2 - 2 * h) * j / n, z)));
+    std::cout << "    face z = " << z << ": " << face.size() << " nodes, coverage " << coverage << "\n";
+    EXPECT_LE(coverage, 0.75) << "face z = " << z;
+    EXPECT_GE(double(face.size()), 0.8 * 2 / std::sqrt(3.0) * 4 / (h * h)) << "face z = " << z;
+  }
+}
+
 TEST(BubblePacker, Sphere2D)
 {
   Polyhedron p = make_sphere(3);

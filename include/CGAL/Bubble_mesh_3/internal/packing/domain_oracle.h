@@ -453,9 +453,18 @@ private:
     if(!patch)
       return;
     std::vector<Triangle_3>& tri = out[*patch];
+    // every triangle's normal points towards the side of the larger label,
+    // so the normals of a patch are consistent (the packing compares the
+    // normals of bubbles: see on_opposite_sides)
+    const Vec3 towards = (other > l0) ? Vec3(pb - pa) : Vec3(pa - pb);
     auto add = [&](const Vec3& x, const Vec3& y, const Vec3& z) {
-      if((y - x).cross(z - x).squaredNorm() > 1e-24 * h_.squaredNorm() * h_.squaredNorm())
+      const Vec3 n = (y - x).cross(z - x);
+      if(!(n.squaredNorm() > 1e-24 * h_.squaredNorm() * h_.squaredNorm()))
+        return;
+      if(n.dot(towards) >= 0)
         tri.emplace_back(Point_3(x[0], x[1], x[2]), Point_3(y[0], y[1], y[2]), Point_3(z[0], z[1], z[2]));
+      else
+        tri.emplace_back(Point_3(x[0], x[1], x[2]), Point_3(z[0], z[1], z[2]), Point_3(y[0], y[1], y[2]));
     };
     if(count0 == 1 || count0 == 3) {
       // one corner alone on its side: one triangle

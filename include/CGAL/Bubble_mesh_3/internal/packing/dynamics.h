@@ -277,7 +277,14 @@ private:
   {
     const std::size_t n = b_.size();
     exec_.for_each(n, [&](std::size_t i) { hot_[i].x = b_[i].x; });
+    // (unfiltered: a new bubble must not land on one of the other side)
     wide_.build(hot_, has_row_, wide_reach, exec_);
+  }
+
+  // pairs that ignore each other (see on_opposite_sides)
+  auto separated() const
+  {
+    return [this](int i, int j) { return on_opposite_sides(b_[std::size_t(i)], b_[std::size_t(j)]); };
   }
 
   void rebuild(bool refresh_metrics)
@@ -299,7 +306,7 @@ private:
       anchor_[i] = b_[i].x;
       hot_[i] = Hot_bubble{b_[i].x, b_[i].m, b_[i].entity, b_[i].fixed ? 1 : 0};
     });
-    lists_.build(hot_, has_row_, reach_factor, exec_);
+    lists_.build(hot_, has_row_, reach_factor, exec_, separated());
     if(use_gradient_)
       estimate_metric_gradients();
     overlap_.assign(n, 0.0);

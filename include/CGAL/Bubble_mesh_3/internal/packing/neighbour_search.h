@@ -43,15 +43,21 @@ namespace Bubble_mesh_3 {
 namespace internal {
 namespace packing {
 
+/// no pair is separated (the default of `Neighbour_lists::build`)
+struct No_separation {
+  bool operator()(int, int) const { return false; }
+};
+
 class Neighbour_lists {
 public:
   /// Builds the lists of metric reach `metric_reach`. `has_row[i]` tells
   /// whether bubble i needs its own row (moving bubbles); pairs of two
-  /// row-less bubbles are skipped. `Record` has the position `x` and the
+  /// row-less bubbles are skipped, and so are the pairs (i, j) for which
+  /// `separated(i, j)` is true. `Record` has the position `x` and the
   /// metric `m` of a bubble.
-  template <typename Record>
+  template <typename Record, typename Separated = No_separation>
   void build(const std::vector<Record>& bubbles, const std::vector<char>& has_row, double metric_reach,
-             const Parallel_executor& exec)
+             const Parallel_executor& exec, const Separated& separated = Separated())
   {
     metric_reach2_ = metric_reach * metric_reach;
     const std::size_t n = bubbles.size();
@@ -83,7 +89,7 @@ public:
       std::vector<std::pair<int, int>>& out = block_pairs_[b];
       out.clear();
       for(std::size_t i = begin; i < end; ++i)
-        find_pairs(static_cast<int>(i), bubbles, has_row, out);
+        find_pairs(static_cast<int>(i), bubbles, has_row, separated, out);
     });
 
     // Compressed rows, in block order, then each row sorted by index.
@@ -244,9 +250,9 @@ private:
     return nullptr;
   }
 
-  template <typename Record>
+  template <typename Record, typename Separated>
   void find_pairs(int i, const std::vector<Record>& bubbles, const std::vector<char>& has_row,
-                  std::vector<std::pair<int, int>>& out) const
+                  const Separated& separated, std::vector<std::pair<int, int>>& out) const
   {
     const Vec3& xi = bubbles[i].x;
     const Vec3 y = xi - lo_;
@@ -300,7 +306,8 @@ private:
                std::abs(d[2]) > std::max(ei[2], ej[2]))
               continue;
             // decided in the metric: min(|d|_Mi, |d|_Mj) <= metric reach
-            if(bubbles[i].m.squared_length(d) <= metric_reach2_ || bubbles[j].m.squared_length(d) <= metric_reach2_)
+            if((bubbles[i].m.squared_length(d) <= metric_reach2_ || bubbles[j].m.squared_length(d) <= metric_reach2_) &&
+               !separated(i, j))
               out.emplace_back(i, j);
           }
         }

@@ -158,6 +158,7 @@ inline std::vector<char> bubbles_to_search(const std::vector<Bubble_record>& bub
 struct Gap_search_neighbour {
   Vec3 y;
   const Bubble_record* b;
+  bool across; // on the other side of a thin part from the searched bubble: does not guide the search
 };
 
 // The best gap next to bubble i (a new bubble `record` at normalized distance
@@ -190,12 +191,12 @@ bool best_gap(std::vector<Bubble_record>& bubbles, int i, const Neighbour_lists&
   // the bubbles that can be within the threshold of a candidate
   const double keep2 = (reach + threshold + 0.05) * (reach + threshold + 0.05);
   near.clear();
-  near.push_back(Near{Vec3::Zero(), &bi});
+  near.push_back(Near{Vec3::Zero(), &bi, false});
   for(const int* j = lists.begin(i); j != lists.end(i); ++j)
     if(!dead[*j]) {
       const Vec3 y = frame(bubbles[*j].x);
       if(y.squaredNorm() <= keep2)
-        near.push_back(Near{y, &bubbles[*j]});
+        near.push_back(Near{y, &bubbles[*j], on_opposite_sides(bi, bubbles[*j])});
     }
   // Search score of a point p: its metric distance, in bi's metric, to the
   // nearest bubble (exact for a constant metric; it only guides the
@@ -206,6 +207,8 @@ bool best_gap(std::vector<Bubble_record>& bubbles, int i, const Neighbour_lists&
     const double bound2 = bound * bound;
     nearest = &bi;
     for(const Near& e : near) {
+      if(e.across)
+        continue;
       const double d2 = (e.y - y).squaredNorm();
       if(d2 < best2) {
         best2 = d2;
@@ -216,11 +219,13 @@ bool best_gap(std::vector<Bubble_record>& bubbles, int i, const Neighbour_lists&
     }
     return std::sqrt(best2);
   };
-  // exact score: the normalized distance w to the nearest bubble
-  auto exact_score = [&](const Vec3& p, const Sym3& mp) {
+  // exact score of a placed candidate: the normalized distance w to the
+  // nearest bubble it does not ignore (see on_opposite_sides)
+  auto exact_score = [&](const Bubble_record& c) {
     double sc = std::numeric_limits<double>::infinity();
     for(const Near& e : near)
-      sc = std::min(sc, normalized_distance_to(p, mp, *e.b));
+      if(!on_opposite_sides(c, *e.b))
+        sc = std::min(sc, normalized_distance_to(c.x, c.m, *e.b));
     return sc;
   };
   std::array<Vec3, 32> directions;
@@ -277,7 +282,7 @@ bool best_gap(std::vector<Bubble_record>& bubbles, int i, const Neighbour_lists&
     if(!constraint.place(c, p) || bi.m.length(c.x - bi.x) > reach)
       continue;
     refresh(c);
-    s = exact_score(c.x, c.m);
+    s = exact_score(c);
     if(s < threshold || s <= best_score)
       continue;
     best_score = s;
@@ -307,7 +312,8 @@ std::size_t insert_accepted_gaps(std::vector<Bubble_record>& bubbles, const Neig
     const Bubble_record& c = all[a].record;
     const double threshold = traits.gap_insertion_threshold(c.dimension);
     auto conflicts = [&](int j) {
-      return accepted[j] >= 0 && normalized_distance_to(c.x, c.m, all[accepted[j]].record) < threshold;
+      return accepted[j] >= 0 && !on_opposite_sides(c, all[accepted[j]].record) &&
+             normalized_distance_to(c.x, c.m, all[accepted[j]].record) < threshold;
     };
     const int i = all[a].origin;
     bool blocked = false;
