@@ -48,7 +48,7 @@ struct Facing_pair {
 template <typename Spacing, typename Reach>
 std::vector<Facing_pair> facing_pairs(const front::Boundary_surface& surface, const Spacing& spacing,
                                       const Reach& reach, double facing_cosine = packing::opposite_sides_cosine,
-                                      std::size_t maximum_samples = 500000)
+                                      std::size_t maximum_samples = 100000)
 {
   typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
   typedef std::vector<K::Triangle_3>::const_iterator Iterator;
