@@ -119,7 +119,8 @@ inline std::string to_json(const Meshing_report& r)
     << ", \"boundary_edge_splits\": " << r.improvement.boundary_edge_splits
     << ", \"feature_edge_splits\": " << r.improvement.feature_edge_splits
     << ", \"edge_collapses\": " << r.improvement.edge_collapses
-    << ", \"boundary_edge_collapses\": " << r.improvement.boundary_edge_collapses << ", \"seconds\": " << num(r.improvement.seconds)
+    << ", \"boundary_edge_collapses\": " << r.improvement.boundary_edge_collapses
+    << ", \"feature_edge_collapses\": " << r.improvement.feature_edge_collapses << ", \"seconds\": " << num(r.improvement.seconds)
     << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"surface_distance\": "
     << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
@@ -180,7 +181,8 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
                                   std::to_string(i.feature_edge_splits) + " on feature curves)"
                             : std::string())
       << (i.edge_collapses > 0 ? ", edge collapses " + std::to_string(i.edge_collapses) + " of which " +
-                                     std::to_string(i.boundary_edge_collapses) + " on the boundary"
+                                     std::to_string(i.boundary_edge_collapses) + " on the boundary (" +
+                                     std::to_string(i.feature_edge_collapses) + " on feature curves)"
                                : std::string())
       << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
     o << "improve:  metric edges in [0.707, 1.414] " << 100 * i.edges_in_range_before << " -> "

@@ -330,6 +330,9 @@ struct Improvement_report {
   /// removed each), and those of boundary edges (two listed triangles go)
   std::size_t edge_collapses = 0;
   std::size_t boundary_edge_collapses = 0;
+  /// those of feature edges (a node removed from a feature curve; counted in
+  /// `boundary_edge_collapses` too)
+  std::size_t feature_edge_collapses = 0;
   /// if a collapse removed vertices: the index in the improved mesh of each
   /// vertex of the input mesh followed by the split ones (-1: removed); empty
   /// if no vertex was removed (indices unchanged, split vertices appended)
@@ -434,6 +437,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   report.feature_edge_splits = c.feature_edge_splits;
   report.edge_collapses = c.edge_collapses;
   report.boundary_edge_collapses = c.boundary_edge_collapses;
+  report.feature_edge_collapses = c.feature_edge_collapses;
   report.passes = c.passes;
   report.time_limit_reached = c.time_limit_reached;
   report.seconds = improver.elapsed_seconds();

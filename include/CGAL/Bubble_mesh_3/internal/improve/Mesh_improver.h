@@ -101,6 +101,8 @@ struct Improver_counters {
   /// edge collapses (each removes a vertex), and those of boundary edges
   std::size_t edge_collapses = 0;
   std::size_t boundary_edge_collapses = 0;
+  /// those of feature edges (counted in both above too)
+  std::size_t feature_edge_collapses = 0;
   int passes = 0;
   bool time_limit_reached = false;
 };
@@ -1212,21 +1214,28 @@ private:
   }
 
   /// Collapses the edge (v, w) by removing `v`: its tets through w go, the
-  /// others get w for v. Only for `v` free or inside one patch (plane or
-  /// surface constraint; then (v, w) is a boundary edge of that patch), its
-  /// star in one active subdomain; only if the link condition holds (the
-  /// result is a manifold mesh with the same boundary topology: the
-  /// boundary closed by a virtual vertex joined to each boundary face), every
-  /// new tet is positively oriented (exact), no boundary face turns by more
-  /// than 20 degrees, and the worst new tet is a degree above the worst of
-  /// v's star.
+  /// others get w for v. Only for `v` free, inside one patch (plane or
+  /// surface constraint; then (v, w) is a boundary edge of that patch), or
+  /// inside a feature curve (line or curve constraint; then w is one of its
+  /// two neighbours on the curve, and the curve loses v); its star in one
+  /// active subdomain; only if the link condition holds (the result is a
+  /// manifold mesh with the same boundary topology: the boundary closed by a
+  /// virtual vertex joined to each boundary face; no two curves between the
+  /// same vertices, a closed curve keeps 3 edges), every new tet is
+  /// positively oriented (exact), no boundary face turns by more than 20
+  /// degrees, and the worst new tet is a degree above the worst of v's star.
   bool collapse_edge(int v, int w)
   {
-    const Vertex_constraint::Kind kind = m_.constraint[std::size_t(v)].kind;
+    const Vertex_constraint& constraint = m_.constraint[std::size_t(v)];
+    const Vertex_constraint::Kind kind = constraint.kind;
     const bool boundary = m_.fixed[std::size_t(v)] != 0;
-    if(boundary && kind != Vertex_constraint::plane && kind != Vertex_constraint::surface)
+    const bool on_curve = kind == Vertex_constraint::line || kind == Vertex_constraint::curve;
+    if(boundary && kind != Vertex_constraint::plane && kind != Vertex_constraint::surface && !on_curve)
       return false;
     if(boundary && (!s_.boundary_smoothing || !m_.is_protected_edge(v, w) || m_.has_duplicate_triangles))
+      return false;
+    int u = -1; // v's other neighbour on its curve
+    if(on_curve && !curve_collapse_keeps_curves(v, w, u))
       return false;
     const std::vector<int>& star = m_.vertex_tets[std::size_t(v)];
     if(star.empty())
@@ -1240,7 +1249,7 @@ private:
     }
     // the boundary faces at v, each the face of one tet, all of one patch
     std::vector<std::array<int, 3>> faces;
-    std::vector<Eigen::Vector3d> face_normals; // outward
+    std::vector<Eigen::Vector3d> face_normals; // in the order of `faces`' vertices
     int patch = 0;
     for(int s : star) {
       const Tet& T = m_.tets[std::size_t(s)];
@@ -1259,13 +1268,10 @@ private:
         const int p = m_.face_patch(f[0], f[1], f[2]);
         if(faces.empty())
           patch = p;
-        else if(p != patch)
+        else if(p != patch && !on_curve)
           return false;
-        Eigen::Vector3d normal = (P(f[1]) - P(f[0])).cross(P(f[2]) - P(f[0]));
-        if(normal.dot(P(T[std::size_t(k)]) - P(f[0])) > 0)
-          normal = -normal;
         faces.push_back(f);
-        face_normals.push_back(normal);
+        face_normals.push_back((P(f[1]) - P(f[0])).cross(P(f[2]) - P(f[0])));
       }
     }
     if(boundary == faces.empty())
@@ -1301,7 +1307,9 @@ private:
         x[k] = f[std::size_t(k)] == v ? P(w) : P(f[std::size_t(k)]);
       const Eigen::Vector3d normal = (x[1] - x[0]).cross(x[2] - x[0]);
       const Eigen::Vector3d& o = face_normals[i];
-      // the same orientation (x replaces v in place) keeps the outward sense
+      // both in the same vertex order (w replaces v in place). (The old
+      // normal was turned outward and the new one not: every face listed
+      // inward-first refused the collapse, and so did most curve collapses.)
       if(!(normal.dot(o) > cos_turn * normal.norm() * o.norm()))
         return false;
     }
@@ -1321,6 +1329,8 @@ private:
     const std::vector<int> created = m_.replace(old_tets, new_tets, ref);
     if(boundary) {
       m_.collapse_boundary_faces(v, w, faces);
+      if(on_curve)
+        m_.collapse_feature_edge(v, w, u);
       for(const auto& f : renamed)
         index_face(f[0], f[1], f[2]);
     }
@@ -1335,7 +1345,26 @@ private:
     ++c_.edge_collapses;
     if(boundary)
       ++c_.boundary_edge_collapses;
+    if(on_curve)
+      ++c_.feature_edge_collapses;
     return true;
+  }
+
+  /// Whether removing the curve vertex `v` (line or curve constraint) by
+  /// its curve edge to `w` keeps the feature curves a proper graph: `w` is
+  /// one of v's two curve neighbours, both of v's edges are of one curve,
+  /// the other neighbour `u` (returned) is not already joined to `w` by a
+  /// feature edge (two curves between the same vertices: a thin patch
+  /// between them would vanish; a closed curve would have 2 edges).
+  bool curve_collapse_keeps_curves(int v, int w, int& u) const
+  {
+    const Vertex_constraint& c = m_.constraint[std::size_t(v)];
+    if(c.ends[0] != w && c.ends[1] != w)
+      return false;
+    u = c.ends[0] == w ? c.ends[1] : c.ends[0];
+    const int curve = m_.feature_edge_curve(v, w);
+    // (a closed curve of 3 edges has its third edge between u and w)
+    return u != w && curve >= 0 && m_.feature_edge_curve(u, v) == curve && !m_.is_feature_edge(u, w);
   }
 
   /// The link condition for the collapse of (v, w), with the boundary

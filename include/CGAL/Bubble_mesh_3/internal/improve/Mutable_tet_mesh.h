@@ -593,6 +593,60 @@ public:
     }
   }
 
+  /// After the collapse of `v`, inside a feature curve, onto its curve
+  /// neighbour `w` (the boundary faces by `collapse_boundary_faces()`), `u`
+  /// being its other curve neighbour: the feature edge (v, w) goes, (u, v)
+  /// becomes (u, w), and the line or curve constraints of `u` and `w` take
+  /// each other as neighbours. A line constraint is kept only if `v` slid
+  /// on the same straight line (then `w` is on it); otherwise that vertex
+  /// becomes fixed.
+  void collapse_feature_edge(int v, int w, int u)
+  {
+    const int curve = feature_edge_curve(v, w);
+    for(std::size_t i = 0; i < feature_edge_list.size(); ++i) {
+      auto& e = feature_edge_list[i];
+      if(edge_key(e[0], e[1]) == edge_key(u, v)) {
+        for(int& x : e)
+          if(x == v)
+            x = w;
+      } else if(edge_key(e[0], e[1]) == edge_key(v, w)) {
+        const std::size_t last = feature_edge_list.size() - 1;
+        e = feature_edge_list[last];
+        feature_edge_list_refs[i] = feature_edge_list_refs[last];
+        feature_edge_list.pop_back();
+        feature_edge_list_refs.pop_back();
+        --i; // the moved entry is looked at again
+      }
+    }
+    for(int x : {u, w}) {
+      feature_edges.erase(edge_key(v, x));
+      feature_edge_ref.erase(edge_key(v, x));
+      protected_edges.erase(edge_key(v, x));
+    }
+    feature_edges.insert(edge_key(u, w));
+    feature_edge_ref.emplace(edge_key(u, w), curve);
+    protected_edges.insert(edge_key(u, w));
+    feature_edges_split = true;
+    const bool straight = constraint[std::size_t(v)].kind == Vertex_constraint::line;
+    for(int x : {u, w}) {
+      Vertex_constraint& c = constraint[std::size_t(x)];
+      if(c.kind != Vertex_constraint::curve && c.kind != Vertex_constraint::line)
+        continue;
+      if(c.kind == Vertex_constraint::line && !straight) {
+        c.kind = Vertex_constraint::fixed;
+        continue;
+      }
+      for(int& end : c.ends)
+        if(end == v)
+          end = x == u ? w : u;
+      if(c.kind == Vertex_constraint::curve) {
+        c.axis = (points[std::size_t(c.ends[1])] - points[std::size_t(c.ends[0])]).normalized();
+        c.tangent[0] = c.axis;
+      }
+    }
+    constraint[std::size_t(v)].kind = Vertex_constraint::fixed;
+  }
+
   bool is_protected_face(int a, int b, int c) const { return protected_faces.count(Face_key(a, b, c)) != 0; }
   bool is_protected_edge(int a, int b) const { return protected_edges.count(edge_key(a, b)) != 0; }
 
@@ -820,11 +874,11 @@ public:
   std::vector<Vertex_constraint> constraint;
   /// the refs of the vertices added by `add_vertex()`, in order
   std::vector<int> added_point_refs;
-  /// the feature edges and their refs as given, then as split
+  /// the feature edges and their refs as given, then as split or collapsed
   std::vector<std::array<int, 2>> feature_edge_list;
   std::vector<int> feature_edge_list_refs;
   std::unordered_map<std::uint64_t, int> feature_edge_ref;
-  bool feature_edges_split = false;
+  bool feature_edges_split = false; // or collapsed: the output lists them anew
   bool exterior_ref_0 = false;
   Surface_projection surface_projection;
   Surface_projection curve_projection;
