@@ -444,6 +444,22 @@ TEST(FeatureSizeField, RefinesWhereFeaturesAreCloserThanTheSize)
   EXPECT_TRUE(CGAL::Feature_size_metric_field_3<User>(
                   thin, four, {curve({{{0, 0, 0}}, {{3, 0, 0}}}, 0, 1), curve({{{0, 0.2, 0}}, {{3, 0.2, 0}}}, 2, 3)}, 0.5)
                   .refines());
+  // a lens: two curves between the same two corners, 0.02 apart in the
+  // middle (a patch of one thin triangle): refined there (to the floor, a
+  // tenth of the size 0.5); two curves from one corner at 10 degrees to
+  // two other corners (a sharp corner of a patch) are not
+  const User half(Metric_3::isotropic(0.5));
+  const std::vector<std::array<double, 3>> lens_corners{{{0, 0, 0}}, {{1, 0, 0}}};
+  const Field lens(half, lens_corners,
+                   {curve({{{0, 0, 0}}, {{1, 0, 0}}}, 0, 1), curve({{{0, 0, 0}}, {{0.5, 0.02, 0}}, {{1, 0, 0}}}, 1, 0)}, 0.5);
+  EXPECT_TRUE(lens.refines());
+  EXPECT_NEAR(size_at(lens, 0.5, 0.01, 0), 0.05, 0.02);
+  const double t10 = 10 * M_PI / 180;
+  const std::array<double, 3> bend{{4 * std::cos(t10), 4 * std::sin(t10), 0}};
+  const std::vector<std::array<double, 3>> wedge_corners{{{0, 0, 0}}, {{4, 0, 0}}, {{bend[0], 3, 0}}};
+  EXPECT_FALSE(Field(half, wedge_corners,
+                     {curve({{{0, 0, 0}}, {{4, 0, 0}}}, 0, 1), curve({{{0, 0, 0}}, bend, wedge_corners[2]}, 0, 2)}, 0.5)
+                   .refines());
   // a closed curve of length about 1.2 needs three nodes: sizes 0.4 on it
   std::vector<std::array<double, 3>> ring;
   for(int i = 0; i < 64; ++i)
