@@ -150,6 +150,12 @@ def run_case(tool, surface, fraction, metric, seed, out_dir, time_limit, threads
                    in_range_front=m.get("improvement", {}).get("edges_in_range_before"),
                    volume_error=m.get("volume_error"), distance=m.get("surface_distance"),
                    distance_rel=m.get("surface_distance_relative"))
+        # features finer than the feature-size floor (a tenth of the largest
+        # size: h, or h sqrt3 for aniso3): the field stops refining there,
+        # so what is left of them is below the resolution asked
+        smallest = m.get("smallest_feature_size")
+        largest = h if metric == "iso" else h * math.sqrt(3.0)
+        row["floored"] = smallest is not None and 0 < smallest <= 0.1 * largest * (1 + 1e-6)
         # how often the front's fallbacks ran (issue 20: prefer the project's own recovery)
         row["fallbacks"] = {k: m.get(k, 0) for k in ("best_quality_tets", "undo_rounds", "cavities",
                                                      "vertex_star_fills", "steiner_star_fills", "tetgen_fills",
@@ -261,6 +267,13 @@ def main():
         lines.append("")
         lines.append("Runs whose front called TetGen: " + ", ".join(
             "%s d/%d %s s%d" % (r["surface"], r["fraction"], r["metric"], r["seed"]) for r in tetgen_runs) + ".")
+    floored = [r for r in rows if r.get("floored")]
+    if floored:
+        lines.append("")
+        lines.append("Runs with features finer than a tenth of the size (feature sizes raised to that floor, "
+                     "the elements there are larger than the features): " + ", ".join(
+                         "%s d/%d %s s%d (worst %s)" % (r["surface"], r["fraction"], r["metric"], r["seed"],
+                                                        fmt(r.get("worst"), ".1f")) for r in floored) + ".")
     lines.append("")
     lines.append("Runs ended by a signal: %d%s." % (len(signalled), "".join(
         " %s d/%d %s s%d (signal %d)" % (r["surface"], r["fraction"], r["metric"], r["seed"], -r["exit"])
