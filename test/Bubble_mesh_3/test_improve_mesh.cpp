@@ -1772,35 +1772,27 @@ TEST(ImproveMesh, EdgeCollapsesRemoveVerticesOnFeatureCurves)
     input.points.push_back({{x[0], x[1], x[2]}});
     input.point_refs.push_back(0);
     const int p = int(input.points.size()) - 1;
-    // the tets around (a, b): one keeps a, the other b (p on the segment: same orientation)
-    const std::size_t nt = input.tets.size();
-    for(std::size_t t = 0; t < nt; ++t) {
-      std::array<int, 4> T = input.tets[t];
-      const auto ia = std::find(T.begin(), T.end(), a), ib = std::find(T.begin(), T.end(), b);
-      if(ia == T.end() || ib == T.end())
-        continue;
-      std::array<int, 4> U = T;
-      U[std::size_t(ib - T.begin())] = p;
-      T[std::size_t(ia - T.begin())] = p;
-      input.tets[t] = U;
-      input.tets.push_back(T);
-      input.tet_refs.push_back(input.tet_refs[t]);
-      for(int v : input.tets[t])
-        touched.insert(v);
-    }
-    const std::size_t nf = input.triangles.size();
-    for(std::size_t f = 0; f < nf; ++f) {
-      std::array<int, 3> F = input.triangles[f];
-      const auto ia = std::find(F.begin(), F.end(), a), ib = std::find(F.begin(), F.end(), b);
-      if(ia == F.end() || ib == F.end())
-        continue;
-      std::array<int, 3> G = F;
-      G[std::size_t(ib - F.begin())] = p;
-      F[std::size_t(ia - F.begin())] = p;
-      input.triangles[f] = G;
-      input.triangles.push_back(F);
-      input.triangle_refs.push_back(input.triangle_refs[f]);
-    }
+    // the tets and the listed triangles at (a, b): each becomes two, one
+    // keeping a, the other b (p on the segment: same orientation and ref)
+    auto split_at_p = [&](auto& cells, std::vector<int>& refs) {
+      const std::size_t n = cells.size();
+      for(std::size_t c = 0; c < n; ++c) {
+        auto K = cells[c];
+        const auto ia = std::find(K.begin(), K.end(), a), ib = std::find(K.begin(), K.end(), b);
+        if(ia == K.end() || ib == K.end())
+          continue;
+        auto L = K;
+        L[std::size_t(ib - K.begin())] = p;
+        K[std::size_t(ia - K.begin())] = p;
+        cells[c] = L;
+        cells.push_back(K);
+        refs.push_back(refs[c]);
+        touched.insert(K.begin(), K.end());
+        touched.insert(L.begin(), L.end());
+      }
+    };
+    split_at_p(input.tets, input.tet_refs);
+    split_at_p(input.triangles, input.triangle_refs);
     input.edges[i] = {{a, p}};
     input.edges.push_back({{p, b}});
     input.edge_refs.push_back(input.edge_refs[i]);

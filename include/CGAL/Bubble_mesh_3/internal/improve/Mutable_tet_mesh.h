@@ -385,7 +385,7 @@ public:
       }
     if(!had_refs)
       mesh.tet_refs.clear();
-    if(feature_edges_split || !new_index.empty()) {
+    if(feature_edges_changed || !new_index.empty()) {
       const bool had_edge_refs = mesh.edge_refs.size() == mesh.edges.size() && !mesh.edges.empty();
       mesh.edges.clear();
       for(const auto& e : feature_edge_list)
@@ -577,19 +577,23 @@ public:
       protected_edges.insert(edge_key(u, m));
       feature_edge_ref.emplace(edge_key(u, m), curve);
     }
-    feature_edges_split = true;
-    for(int u : {a, b}) {
-      Vertex_constraint& c = constraint[std::size_t(u)];
-      if(c.kind != Vertex_constraint::curve && c.kind != Vertex_constraint::line)
-        continue;
-      const int other = u == a ? b : a;
-      for(int& end : c.ends)
-        if(end == other)
-          end = m;
-      if(c.kind == Vertex_constraint::curve) {
-        c.axis = (points[std::size_t(c.ends[1])] - points[std::size_t(c.ends[0])]).normalized();
-        c.tangent[0] = c.axis;
-      }
+    feature_edges_changed = true;
+    replace_curve_neighbour(a, b, m);
+    replace_curve_neighbour(b, a, m);
+  }
+
+  /// If `x` slides along a line or curve, its neighbour there `from` becomes `to`.
+  void replace_curve_neighbour(int x, int from, int to)
+  {
+    Vertex_constraint& c = constraint[std::size_t(x)];
+    if(c.kind != Vertex_constraint::curve && c.kind != Vertex_constraint::line)
+      return;
+    for(int& end : c.ends)
+      if(end == from)
+        end = to;
+    if(c.kind == Vertex_constraint::curve) {
+      c.axis = (points[std::size_t(c.ends[1])] - points[std::size_t(c.ends[0])]).normalized();
+      c.tangent[0] = c.axis;
     }
   }
 
@@ -626,24 +630,13 @@ public:
     feature_edges.insert(edge_key(u, w));
     feature_edge_ref.emplace(edge_key(u, w), curve);
     protected_edges.insert(edge_key(u, w));
-    feature_edges_split = true;
+    feature_edges_changed = true;
     const bool straight = constraint[std::size_t(v)].kind == Vertex_constraint::line;
-    for(int x : {u, w}) {
-      Vertex_constraint& c = constraint[std::size_t(x)];
-      if(c.kind != Vertex_constraint::curve && c.kind != Vertex_constraint::line)
-        continue;
-      if(c.kind == Vertex_constraint::line && !straight) {
-        c.kind = Vertex_constraint::fixed;
-        continue;
-      }
-      for(int& end : c.ends)
-        if(end == v)
-          end = x == u ? w : u;
-      if(c.kind == Vertex_constraint::curve) {
-        c.axis = (points[std::size_t(c.ends[1])] - points[std::size_t(c.ends[0])]).normalized();
-        c.tangent[0] = c.axis;
-      }
-    }
+    for(int x : {u, w})
+      if(constraint[std::size_t(x)].kind == Vertex_constraint::line && !straight)
+        constraint[std::size_t(x)].kind = Vertex_constraint::fixed;
+    replace_curve_neighbour(u, v, w);
+    replace_curve_neighbour(w, v, u);
     constraint[std::size_t(v)].kind = Vertex_constraint::fixed;
   }
 
@@ -878,7 +871,7 @@ public:
   std::vector<std::array<int, 2>> feature_edge_list;
   std::vector<int> feature_edge_list_refs;
   std::unordered_map<std::uint64_t, int> feature_edge_ref;
-  bool feature_edges_split = false; // or collapsed: the output lists them anew
+  bool feature_edges_changed = false; // split or collapsed: the output lists them anew
   bool exterior_ref_0 = false;
   Surface_projection surface_projection;
   Surface_projection curve_projection;
