@@ -73,7 +73,8 @@ const char* const usage_text =
     "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
     "      at more than DEG degrees from flat, default 60; a crease with a free end\n"
     "      shorter than L elements in the metric, default 1, is dropped: it separates\n"
-    "      no patches and its corners would be nodes closer than an element; 0 keeps\n"
+    "      no patches and its corners would be nodes closer than an element; a patch\n"
+    "      narrower than a tenth of an element joins a 4x wider neighbour; 0 keeps\n"
     "      all, as CGAL's detect_features), surface patches and the\n"
     "      interior (where corners and curves are closer to each other than the\n"
     "      metric's size it is refined to their distance, and where the part is\n"
@@ -504,6 +505,10 @@ int run_mesh(int argc, char** argv)
                                          " creases with a free end shorter than " + [&] { std::ostringstream t; t << min_feature_length; return t.str(); }() +
                                          " element(s) (" + std::to_string(f.dropped_edges) + " of " +
                                          std::to_string(f.sharp_edges) + " sharp edges)"
+                                   : std::string()) +
+             (f.merged_patches > 0 ? "; merged " + std::to_string(f.merged_patches) +
+                                         " patches narrower than a tenth of an element into a neighbour (" +
+                                         std::to_string(f.merged_edges) + " sharp edges no longer sharp)"
                                    : std::string()));
   }
 

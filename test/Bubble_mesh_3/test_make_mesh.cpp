@@ -664,6 +664,97 @@ TEST(DetectFeatures, DropsShortCreasesWithAFreeEndOnly)
   EXPECT_EQ(curves.size(), 12u);
 }
 
+// The unit cube with its edge x = y = 1 chamfered by a 45-degree strip `c`
+// wide in x and y (a pentagonal prism): a patch c sqrt 2 wide between two
+// curves that turn by 45 degrees each (sharp at a feature angle of 40).
+std::string chamfered_box_off(double c)
+{
+  const double xy[5][2] = {{0, 0}, {1, 0}, {1, 1 - c}, {1 - c, 1}, {0, 1}};
+  std::ostringstream o;
+  o.precision(17);
+  o << "OFF\n10 16 0\n";
+  for(int z = 0; z < 2; ++z)
+    for(const auto& q : xy)
+      o << q[0] << ' ' << q[1] << ' ' << z << '\n';
+  o << "3 0 2 1\n3 0 3 2\n3 0 4 3\n"  // bottom, facing down
+    << "3 5 6 7\n3 5 7 8\n3 5 8 9\n"; // top, facing up
+  for(int k = 0; k < 5; ++k) {
+    const int a = k, b = (k + 1) % 5;
+    o << "3 " << a << ' ' << b << ' ' << b + 5 << "\n3 " << a << ' ' << b + 5 << ' ' << a + 5 << '\n';
+  }
+  return o.str();
+}
+
+TEST(DetectFeatures, MergesPatchesNarrowerThanATenthOfAnElement)
+{
+  const double c = 0.005; // the strip is 0.0071 wide
+  auto detect = [&](double h, double min_length, Polyhedron& p) {
+    p = from_off(chamfered_box_off(c));
+    return BM::detect_features(p, CGAL::Constant_metric_field_3<K>(Metric::isotropic(h)),
+                               BM::parameters::feature_angle(40.0).minimum_feature_length(min_length));
+  };
+  Polyhedron p;
+  // CGAL's features: 7 patches, the strip's two long edges are curves
+  const auto all = detect(0.3, 0, p);
+  std::cout << "chamfer, all: " << BM::to_json(all.report) << "\n";
+  EXPECT_EQ(all.report.patches, 7u);
+  EXPECT_EQ(all.report.merged_patches, 0u);
+  EXPECT_EQ(all.report.corners, 10u);
+  // at 0.3 the strip is below a tenth of an element: merged into one of the
+  // two sides, whose edge with the strip is no longer sharp
+  const auto merged = detect(0.3, 1, p);
+  std::cout << "chamfer, merged: " << BM::to_json(merged.report) << "\n";
+  EXPECT_EQ(merged.report.merged_patches, 1u);
+  EXPECT_EQ(merged.report.merged_edges, 1u); // the strip's long edge
+  EXPECT_EQ(merged.report.patches, 6u);
+  EXPECT_EQ(merged.report.corners, 8u);
+  {
+    std::set<int> ids;
+    for(auto f : faces(p))
+      ids.insert(get(get(CGAL::face_patch_id_t<int>(), p), f));
+    EXPECT_EQ(ids, (std::set<int>{1, 2, 3, 4, 5, 6})); // renumbered from 1
+  }
+  // at 0.05 the strip is wider than a tenth: kept
+  const auto fine = detect(0.05, 1, p);
+  EXPECT_EQ(fine.report.merged_patches, 0u);
+  EXPECT_EQ(fine.report.patches, 7u);
+  // at 5 every face is narrower than a tenth of an element, but only the
+  // strip is narrow against its neighbours: the part's faces stay
+  const auto coarse = detect(5, 1, p);
+  EXPECT_EQ(coarse.report.merged_patches, 1u);
+  EXPECT_EQ(coarse.report.patches, 6u);
+  EXPECT_EQ(coarse.report.curves, 12u);
+
+  // meshing the merged domain: valid, the volume of the chamfered cube, no
+  // flat tets at the strip; with the strip kept (CGAL's features) its two
+  // curves are 0.007 apart at a size of 0.3 and the tets there are needles
+  auto mesh = [&](double min_length) {
+    Polyhedron q;
+    const auto features = detect(0.3, min_length, q);
+    Domain domain(q);
+    features.add_to(domain);
+    const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.3));
+    const BM::Indexed_tet_mesh_3 m =
+        BM::make_indexed_anisotropic_mesh_3(domain, field, BM::parameters::number_of_threads(1).random_seed(1u));
+    BM::Validity_options opt;
+    opt.require_outward_triangles = true;
+    opt.expected_volume = 1 - c * c / 2;
+    // merged, the triangles across the strip cut off up to c h / 2
+    if(min_length > 0)
+      opt.expected_volume_relative_tolerance = c * 0.3;
+    const BM::Validity_report v = BM::check_validity(m, opt);
+    if(!v.is_valid())
+      BM::print_validity_summary(std::cerr, v);
+    EXPECT_TRUE(v.is_valid());
+    return BM::compute_quality_report(m, field).min_dihedral.worst;
+  };
+  const double with_strip = mesh(0), without = mesh(1);
+  std::cout << "chamfered cube at 0.3: worst " << with_strip << " deg with the strip, " << without
+            << " deg merged\n";
+  EXPECT_GT(without, 20.0);
+  EXPECT_GT(without, with_strip + 5);
+}
+
 // A Polyhedron_3 descriptor compares by address: features walked in a
 // pointer-keyed map's order changed with the heap's layout (the command
 // line's arguments changed the dino's mesh). The same surface built on a

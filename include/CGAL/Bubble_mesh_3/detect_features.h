@@ -11,7 +11,9 @@
 // between them are needles no later stage can mend. A chain that has a free
 // end (a crease that fades out into its patch) separates nothing: dropping it
 // leaves every patch as it was. Dropping those shorter than one element
-// (measured in the metric) keeps every feature the mesh can represent.
+// (measured in the metric) keeps every feature the mesh can represent. For
+// the same reason a patch narrower than a tenth of an element (a chamfer
+// strip, a sliver facet) joins a neighbour.
 #ifndef CGAL_BUBBLE_MESH_3_DETECT_FEATURES_H
 #define CGAL_BUBBLE_MESH_3_DETECT_FEATURES_H
 
@@ -22,9 +24,13 @@
 #include <CGAL/property_map.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <functional>
+#include <limits>
 #include <map>
+#include <numeric>
 #include <set>
 #include <string>
 #include <utility>
@@ -40,7 +46,9 @@ struct Feature_detection_report {
   std::size_t dropped_edges = 0;  ///< sharp edges in those chains
   std::size_t curves = 0;         ///< polylines given to the domain
   std::size_t corners = 0;        ///< distinct end points of the open polylines
-  std::size_t patches = 0;        ///< surface patches (unchanged by the dropping)
+  std::size_t patches = 0;        ///< surface patches (after the merging; unchanged by the dropping)
+  std::size_t merged_patches = 0; ///< patches narrower than a tenth of an element, merged into a neighbour
+  std::size_t merged_edges = 0;   ///< sharp edges between merged patches (no longer sharp)
 };
 
 /// the report as a JSON object (keys as the member names)
@@ -49,7 +57,8 @@ inline std::string to_json(const Feature_detection_report& r)
   auto num = [](std::size_t x) { return internal::format_json_number(double(x)); };
   return "{\"sharp_edges\": " + num(r.sharp_edges) + ", \"dropped_chains\": " + num(r.dropped_chains) +
          ", \"dropped_edges\": " + num(r.dropped_edges) + ", \"curves\": " + num(r.curves) +
-         ", \"corners\": " + num(r.corners) + ", \"patches\": " + num(r.patches) + "}";
+         ", \"corners\": " + num(r.corners) + ", \"patches\": " + num(r.patches) +
+         ", \"merged_patches\": " + num(r.merged_patches) + ", \"merged_edges\": " + num(r.merged_edges) + "}";
 }
 
 /// The feature curves of a polyhedron, with the surface patches each one
@@ -83,6 +92,196 @@ struct Detected_features {
   }
 };
 
+namespace internal {
+
+/// The width below which a patch is merged into a neighbour, as a fraction
+/// of the largest size the metric asks on it: the floor of
+/// `Feature_size_metric_field_3` (features closer than that are below the
+/// resolution asked).
+constexpr double narrow_patch_fraction() { return 0.1; }
+/// how much wider than a narrow patch the neighbour it joins must be
+constexpr double wider_neighbour_ratio() { return 4; }
+
+/// Merges every surface patch narrower than `narrow_patch_fraction()` of the
+/// largest size `metric` asks on it into the neighbour it meets at the
+/// gentlest turn among those `wider_neighbour_ratio()` times wider, by
+/// un-marking the sharp edges between the two, until no patch is that
+/// narrow; renumbers the patches 1..n and refills the vertices'
+/// incident patches. A patch's width is 2 area / perimeter (the width of a
+/// strip, half the height of a sliver triangle), its perimeter the length of
+/// the sharp edges it shares with other patches. Such a patch (a chamfer
+/// strip or a sliver facet of a CAD model, a fold of a scan) puts two curves,
+/// or a curve and a corner, closer than the feature sizes go: the packed
+/// nodes cannot represent it and the tets there are flat. Merged, the
+/// remaining curve stays within the patch's width of the surface.
+/// Returns the number of patches merged; `patches` is updated.
+template <typename Polyhedron, typename MetricField, typename EdgeIsFeature, typename PatchId,
+          typename IncidentPatches>
+std::size_t merge_narrow_patches(Polyhedron& polyhedron, const MetricField& metric, EdgeIsFeature eif, PatchId pid,
+                                 IncidentPatches vip, std::size_t& patches, std::size_t& unmarked_edges)
+{
+  typedef boost::graph_traits<Polyhedron> GT;
+  typedef typename GT::face_descriptor face_descriptor;
+  typedef typename GT::edge_descriptor edge_descriptor;
+  typedef typename GT::halfedge_descriptor halfedge_descriptor;
+  typedef typename GT::vertex_descriptor vertex_descriptor;
+  typedef typename boost::property_traits<typename boost::property_map<Polyhedron, vertex_point_t>::type>::value_type
+      Point_3;
+  auto vpm = get(vertex_point, polyhedron);
+  auto at = [&](vertex_descriptor v) {
+    const Point_3& p = get(vpm, v);
+    return std::array<double, 3>{{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}};
+  };
+  // per face: twice its area, unit normal, centroid
+  struct Face_data {
+    double area;
+    std::array<double, 3> normal, centroid;
+  };
+  std::map<face_descriptor, Face_data> data;
+  for(face_descriptor f : faces(polyhedron)) {
+    const halfedge_descriptor h = halfedge(f, polyhedron);
+    const auto a = at(source(h, polyhedron)), b = at(target(h, polyhedron)),
+               c = at(target(next(h, polyhedron), polyhedron));
+    const std::array<double, 3> u{{b[0] - a[0], b[1] - a[1], b[2] - a[2]}}, v{{c[0] - a[0], c[1] - a[1], c[2] - a[2]}};
+    std::array<double, 3> n{{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]}};
+    const double twice_area = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for(double& x : n)
+      x = twice_area > 0 ? x / twice_area : 0;
+    data[f] = Face_data{0.5 * twice_area, n,
+                        {{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3}}};
+  }
+  auto turn = [&](face_descriptor f, face_descriptor g) { // degrees, 0: flat
+    const auto &n = data[f].normal, &m = data[g].normal;
+    return std::acos(std::max(-1.0, std::min(1.0, n[0] * m[0] + n[1] * m[1] + n[2] * m[2]))) * 180 / CGAL_PI;
+  };
+
+  std::size_t merged = 0;
+  for(;;) {
+    const int n = int(patches);
+    std::vector<double> area(std::size_t(n) + 1, 0), perimeter(std::size_t(n) + 1, 0);
+    std::vector<std::size_t> count(std::size_t(n) + 1, 0), seen(std::size_t(n) + 1, 0);
+    for(face_descriptor f : faces(polyhedron)) {
+      const int p = get(pid, f);
+      area[std::size_t(p)] += data[f].area;
+      ++count[std::size_t(p)];
+    }
+    // the shared boundary of each pair of patches: length, and length x turn
+    std::map<std::pair<int, int>, std::array<double, 2>> shared;
+    for(edge_descriptor e : edges(polyhedron)) {
+      if(!get(eif, e))
+        continue;
+      const halfedge_descriptor h = halfedge(e, polyhedron);
+      const face_descriptor f = face(h, polyhedron), g = face(opposite(h, polyhedron), polyhedron);
+      const int p = get(pid, f), q = get(pid, g);
+      if(p == q)
+        continue;
+      const auto a = at(source(h, polyhedron)), b = at(target(h, polyhedron));
+      const double length = std::sqrt(CGAL::square(b[0] - a[0]) + CGAL::square(b[1] - a[1]) + CGAL::square(b[2] - a[2]));
+      const double t = turn(f, g);
+      perimeter[std::size_t(p)] += length;
+      perimeter[std::size_t(q)] += length;
+      for(const auto& key : {std::make_pair(p, q), std::make_pair(q, p)}) {
+        std::array<double, 2>& s = shared[key];
+        s[0] += length;
+        s[1] += length * t;
+      }
+    }
+    // narrow patches: the width against the floor at up to 16 of its faces
+    // (the smallest largest size found: a patch is merged only where the
+    // metric is coarse all over it)
+    std::vector<double> floor(std::size_t(n) + 1, std::numeric_limits<double>::infinity());
+    std::vector<char> candidate(std::size_t(n) + 1, 0);
+    for(int p = 1; p <= n; ++p)
+      candidate[std::size_t(p)] = perimeter[std::size_t(p)] > 0;
+    for(face_descriptor f : faces(polyhedron)) {
+      const std::size_t p = std::size_t(get(pid, f));
+      if(!candidate[p] || seen[p]++ % std::max<std::size_t>(1, count[p] / 16) != 0)
+        continue;
+      const auto& c = data[f].centroid;
+      const auto sizes = metric(Point_3(c[0], c[1], c[2])).principal_sizes();
+      floor[p] = std::min(floor[p], narrow_patch_fraction() * sizes.maxCoeff());
+    }
+    std::vector<double> width(std::size_t(n) + 1, std::numeric_limits<double>::infinity());
+    for(int p = 1; p <= n; ++p)
+      if(candidate[std::size_t(p)])
+        width[std::size_t(p)] = 2 * area[std::size_t(p)] / perimeter[std::size_t(p)];
+    std::vector<std::pair<double, int>> narrow;
+    for(int p = 1; p <= n; ++p)
+      if(width[std::size_t(p)] < floor[std::size_t(p)])
+        narrow.emplace_back(width[std::size_t(p)] / floor[std::size_t(p)], p);
+    if(narrow.empty())
+      break;
+    const std::size_t merged_before = merged;
+    std::sort(narrow.begin(), narrow.end());
+    // each into the neighbour met at the gentlest mean turn (then the
+    // longest shared boundary) among those at least `wider_neighbour_ratio()` times wider:
+    // a patch is narrow against its neighbours, not only against the size
+    // (the faces of a part smaller than an element stay: its corners and
+    // curves are the part); merges chain through a union-find
+    std::vector<int> parent(std::size_t(n) + 1);
+    std::iota(parent.begin(), parent.end(), 0);
+    std::function<int(int)> root = [&](int p) { return parent[std::size_t(p)] == p ? p : parent[std::size_t(p)] = root(parent[std::size_t(p)]); };
+    for(const auto& entry : narrow) {
+      const int p = entry.second;
+      int best = -1;
+      double best_turn = 0, best_length = 0;
+      for(auto it = shared.lower_bound({p, 0}); it != shared.end() && it->first.first == p; ++it) {
+        if(!(width[std::size_t(it->first.second)] >= wider_neighbour_ratio() * width[std::size_t(p)]))
+          continue;
+        const double mean_turn = it->second[1] / it->second[0];
+        if(best < 0 || mean_turn < best_turn - 1e-9 ||
+           (!(mean_turn > best_turn + 1e-9) && it->second[0] > best_length)) {
+          best = it->first.second;
+          best_turn = mean_turn;
+          best_length = it->second[0];
+        }
+      }
+      if(best < 0)
+        continue;
+      const int a = root(p), b = root(best);
+      if(a != b) {
+        parent[std::size_t(a)] = b;
+        ++merged;
+      }
+    }
+    if(merged == merged_before)
+      break;
+    for(edge_descriptor e : edges(polyhedron)) {
+      if(!get(eif, e))
+        continue;
+      const halfedge_descriptor h = halfedge(e, polyhedron);
+      const int p = get(pid, face(h, polyhedron)), q = get(pid, face(opposite(h, polyhedron), polyhedron));
+      if(p != q && root(p) == root(q)) {
+        put(eif, e, false);
+        ++unmarked_edges;
+      }
+    }
+    // renumber 1..m in the order of the old ids
+    std::vector<int> number(std::size_t(n) + 1, 0);
+    int m = 0;
+    for(int p = 1; p <= n; ++p)
+      if(root(p) == p)
+        number[std::size_t(p)] = ++m;
+    for(face_descriptor f : faces(polyhedron))
+      put(pid, f, number[std::size_t(root(get(pid, f)))]);
+    patches = std::size_t(m);
+  }
+  if(merged > 0) // the incident patches of the vertices on sharp edges, as CGAL fills them
+    for(vertex_descriptor v : vertices(polyhedron)) {
+      auto& ids = vip[v];
+      ids.clear();
+      bool on_sharp_edge = false;
+      for(halfedge_descriptor h : halfedges_around_target(v, polyhedron))
+        on_sharp_edge = on_sharp_edge || get(eif, edge(h, polyhedron));
+      if(on_sharp_edge)
+        for(halfedge_descriptor h : halfedges_around_target(v, polyhedron))
+          ids.insert(get(pid, face(h, polyhedron)));
+    }
+  return merged;
+}
+
+} // namespace internal
+
 /// \ingroup PkgBubbleMesh3Functions
 /// Detects the sharp features of `polyhedron` for meshing with `metric`:
 /// marks its sharp edges and numbers its surface patches as
@@ -93,7 +292,12 @@ struct Detected_features {
 /// left with a free end by the removal of its branches is tested in turn).
 /// Such a chain borders the same patch on both sides, so patches do not
 /// change; chains between corners where three or more chains meet and closed
-/// chains are always kept. Returns the remaining chains split into polylines
+/// chains are always kept. Before that, every patch narrower than a tenth of
+/// the largest size the metric asks on it (2 area / perimeter: a chamfer
+/// strip, a sliver facet) is merged into the neighbour it meets at the
+/// gentlest turn (the sharp edges between them are un-marked): its curves
+/// would be closer than the feature sizes go, and the mesh stays within its
+/// width of the surface. Returns the remaining chains split into polylines
 /// (at corners and at turns of 90 degrees or sharper, as CGAL splits them),
 /// to be given to the domain:
 /// \code
@@ -108,7 +312,7 @@ struct Detected_features {
 /// \param np optional named parameters: `feature_angle` (degrees, default 60,
 ///   as CGAL's), `minimum_feature_length` (metric length below which a chain
 ///   with a free end is dropped; default 1, one element; 0 keeps everything,
-///   which is CGAL's `detect_features()`)
+///   narrow patches too, which is CGAL's `detect_features()`)
 /// \throws Invalid_input if the angle is not in [0, 180] or the length is
 ///   negative or not a number
 template <typename Polyhedron, typename MetricField, typename NamedParameters = CGAL::parameters::Default_named_parameters>
@@ -145,6 +349,12 @@ detect_features(Polyhedron& polyhedron, const MetricField& metric,
       CGAL::parameters::first_index(1)
           .face_index_map(get_initialized_face_index_map(polyhedron))
           .vertex_incident_patches_map(vip));
+
+  // patches narrower than a tenth of an element join a neighbour (before
+  // the chains are walked: the edges between them are no longer sharp)
+  if(min_length > 0)
+    out.report.merged_patches =
+        internal::merge_narrow_patches(polyhedron, metric, eif, pid, vip, out.report.patches, out.report.merged_edges);
 
   // the sharp-edge graph: per vertex, its sharp halfedges (pointing away).
   // Walked in the order the vertices were first met (`sharp_vertices`), not

@@ -106,7 +106,7 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, should_stop)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, surface_distance)
 /// `detect_features()`: an edge is sharp when its faces' normals differ by more than this (degrees, default 60)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, feature_angle)
-/// `detect_features()`: chains with a free end shorter than this metric length are dropped (default 1; 0 keeps all)
+/// `detect_features()`: chains with a free end shorter than this metric length are dropped, and patches narrower than a tenth of an element merged (default 1; 0 keeps all)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, minimum_feature_length)
 /// refine the metric where the domain's corners and feature curves are closer than its sizes (default true;
 /// `CGAL::Feature_size_metric_field_3`)
