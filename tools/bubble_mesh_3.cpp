@@ -15,6 +15,7 @@
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/metric_quality.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
+#include <CGAL/Bubble_mesh_3/internal/surface_fidelity.h>
 #include <CGAL/Bubble_mesh_3/analytic_metric_fields.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
@@ -25,6 +26,8 @@
 #include <CGAL/boost/graph/copy_face_graph.h>
 #include <CGAL/make_anisotropic_mesh_3.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <iomanip>
 
@@ -38,6 +41,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -94,7 +98,7 @@ const char* const usage_text =
     "      metric quality.\n"
     "      Exit 3 when no valid mesh could be made.\n"
     "  bubble_mesh_3 eval MESH.mesh [METRIC] [--report R.json] [--vtu OUT.vtu]\n"
-    "                [--histogram H.svg] [--title TEXT] [--quiet] [--require-valid]\n"
+    "                [--histogram H.svg] [--title TEXT] [--surface S] [--quiet] [--require-valid]\n"
     "      Quality report of any tetrahedral mesh in MEDIT format (also from TetGen\n"
     "      or CGAL Mesh_3): metric minimum dihedral angles (worst, 1st percentile,\n"
     "      mean, 5-degree histogram), metric mean ratios (the UGAWG shape measure:\n"
@@ -102,7 +106,10 @@ const char* const usage_text =
     "      and validity (orientation, conformity, boundary, volume identity).\n"
     "      --require-valid exits with 2 when the mesh is not valid.\n"
     "      --report writes it as JSON, --vtu writes the mesh with per-tet quality,\n"
-    "      --histogram writes an SVG histogram.\n"
+    "      --histogram writes an SVG histogram. --surface S compares the boundary\n"
+    "      with the closed surface S that was meshed: volume error, largest distance\n"
+    "      of the boundary to S (sampled over each triangle) and of S's vertices to\n"
+    "      the boundary, as the meshing report gives them.\n"
     "  bubble_mesh_3 convert IN.mesh OUT.{vtu,mesh}\n"
     "      Convert a MEDIT mesh to VTU (ParaView) or rewrite it as MEDIT.\n"
     "  bubble_mesh_3 --help | --version\n"
@@ -330,11 +337,43 @@ bool ends_with(const std::string& s, const std::string& suffix)
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+// the boundary of `mesh` against the closed surface in `path` (triangles
+// listed twice, as CGAL's output_to_medit writes them, counted once)
+CGAL::Bubble_mesh_3::internal::Surface_fidelity surface_fidelity_of(const Indexed_tet_mesh_3& mesh,
+                                                                    const std::string& path)
+{
+  const CGAL::Surface_mesh<K::Point_3> surface = BIO::read_triangle_surface<K>(path);
+  CGAL::Bubble_mesh_3::internal::front::Boundary_surface input;
+  for(auto v : surface.vertices()) {
+    const K::Point_3& p = surface.point(v);
+    input.points.push_back({{p.x(), p.y(), p.z()}});
+  }
+  for(auto f : surface.faces()) {
+    std::array<int, 3> t;
+    int k = 0;
+    for(auto v : vertices_around_face(surface.halfedge(f), surface))
+      t[std::size_t(k++)] = int(v);
+    input.triangles.push_back(t);
+  }
+  Indexed_tet_mesh_3 boundary;
+  boundary.points = mesh.points;
+  std::set<std::array<int, 3>> seen;
+  for(const auto& t : mesh.triangles) {
+    std::array<int, 3> key = t;
+    std::sort(key.begin(), key.end());
+    if(seen.insert(key).second)
+      boundary.triangles.push_back(t);
+  }
+  if(boundary.triangles.empty())
+    throw Invalid_input("eval --surface: the mesh has no boundary triangles to compare with " + path);
+  return CGAL::Bubble_mesh_3::internal::surface_fidelity(input, boundary);
+}
+
 int run_eval(int argc, char** argv)
 {
   const Options o = parse_options(argc, argv, 2,
                                   {"--size", "--metric-const", "--metric-mesh", "--metric-sol", "--metric-cylindrical",
-                                   "--metric-ugawg", "--report", "--vtu", "--histogram", "--title"},
+                                   "--metric-ugawg", "--report", "--vtu", "--histogram", "--title", "--surface"},
                                   {"--quiet", "--require-valid"});
   if(o.positional.size() != 1)
     throw Usage_error("eval needs exactly one MESH.mesh argument (see bubble_mesh_3 --help)");
@@ -352,14 +391,32 @@ int run_eval(int argc, char** argv)
   validity_options.allow_unused_vertices = true;     // reported, not fatal, when evaluating
   validity_options.allow_duplicate_triangles = true; // CGAL's output_to_medit lists each facet twice
   const CGAL::Bubble_mesh_3::Validity_report validity = CGAL::Bubble_mesh_3::check_validity(mesh, validity_options);
+  // how far the boundary is from the surface meshed (any mesher's, by the
+  // same code as the meshing report's)
+  std::optional<CGAL::Bubble_mesh_3::internal::Surface_fidelity> fidelity;
+  if(o.has("--surface"))
+    fidelity = surface_fidelity_of(mesh, o.get("--surface"));
 
   if(!o.has("--quiet")) {
     CGAL::Bubble_mesh_3::print_quality_summary(std::cout, report);
     CGAL::Bubble_mesh_3::print_validity_summary(std::cout, validity);
+    if(fidelity)
+      std::cout << "Surface " << o.get("--surface") << ": volume error " << 100 * fidelity->volume_error
+                << " %, largest distance of the boundary to it " << fidelity->mesh_to_surface << " ("
+                << fidelity->mesh_to_surface / fidelity->diagonal << " of its diagonal), of its vertices to the boundary "
+                << fidelity->surface_to_mesh << "\n";
   }
   if(o.has("--report")) {
     std::string json = CGAL::Bubble_mesh_3::to_json(report);
     json.insert(json.rfind("\n}"), ",\n  \"validity\": " + CGAL::Bubble_mesh_3::to_json(validity));
+    if(fidelity) {
+      auto num = [](double x) { return CGAL::Bubble_mesh_3::internal::format_json_number(x); };
+      json.insert(json.rfind("\n}"), ",\n  \"surface\": {\"volume_error\": " + num(fidelity->volume_error) +
+                                         ", \"surface_distance\": " + num(fidelity->mesh_to_surface) +
+                                         ", \"surface_distance_relative\": " +
+                                         num(fidelity->mesh_to_surface / fidelity->diagonal) +
+                                         ", \"input_to_boundary_distance\": " + num(fidelity->surface_to_mesh) + "}");
+    }
     BIO::write_text_file(o.get("--report"), json + "\n");
   }
   if(o.has("--histogram")) {

@@ -2,10 +2,11 @@
 // (benchmark/Bubble_mesh_3/run_quality_comparison.sh, RESULTS_quality.md).
 //
 //   bench_quality_competitors SURFACE TARGET_VERTICES OUT_PREFIX [--feature-angle DEG] [--size0 H]
-//                             [--tolerance F] [--max-runs N] [--only mesh3|tetgen]
+//                             [--tolerance F] [--facet-distance D] [--max-runs N] [--only mesh3|tetgen]
 //                             [--tetgen-remeshed auto|always]
 //       Meshes the closed surface with CGAL Mesh_3 (Polyhedral_mesh_domain_with_features_3,
-//       detect_features(DEG), criteria from one size s, perturb + exude) and with TetGen
+//       detect_features(DEG), criteria from one size s, facet_distance D or s/10,
+//       perturb + exude) and with TetGen
 //       (-pq1.414a<maxvol>), s and maxvol found by a few secant/bisection runs so that the
 //       vertex count is TARGET_VERTICES within +-F (default 0.1). TetGen keeps every input
 //       vertex: when that alone is too many (auto) or always, a second TetGen mesh is made
@@ -251,11 +252,13 @@ Raw_mesh raw_from_c3t3(const Mesh3_c3t3& c3t3)
 }
 
 // Criteria from one size s: Mesh_3's usual settings (facet angle 25 degrees,
-// radius-edge ratio 3) with every size bound s and the approximation bound s/10.
-Indexed_tet_mesh_3 run_mesh3(const Domain& domain, double s, double& seconds)
+// radius-edge ratio 3) with every size bound s and the approximation bound
+// `facet_distance` (0: s/10).
+Indexed_tet_mesh_3 run_mesh3(const Domain& domain, double s, double facet_distance, double& seconds)
 {
   Mesh3_criteria criteria(CGAL::parameters::edge_size = s, CGAL::parameters::facet_angle = 25,
-                          CGAL::parameters::facet_size = s, CGAL::parameters::facet_distance = 0.1 * s,
+                          CGAL::parameters::facet_size = s,
+                          CGAL::parameters::facet_distance = facet_distance > 0 ? facet_distance : 0.1 * s,
                           CGAL::parameters::cell_radius_edge_ratio = 3, CGAL::parameters::cell_size = s);
   const auto t0 = std::chrono::steady_clock::now();
   // Mesh_3's defaults, spelled out: sliver perturbation then exudation.
@@ -414,14 +417,15 @@ int run_competitors(int argc, char** argv)
 {
   if(argc < 4)
     throw BM::Invalid_input("usage: bench_quality_competitors SURFACE TARGET_VERTICES OUT_PREFIX [--feature-angle DEG] "
-                            "[--size0 H] [--tolerance F] [--max-runs N] [--only mesh3|tetgen] [--tetgen-remeshed auto|always]");
+                            "[--size0 H] [--tolerance F] [--facet-distance D] [--max-runs N] [--only mesh3|tetgen] "
+                            "[--tetgen-remeshed auto|always]");
   const std::string surface_path = argv[1];
   const double target_d = parse_double(argv[2], "TARGET_VERTICES");
   if(!(target_d >= 10))
     throw BM::Invalid_input("TARGET_VERTICES must be at least 10");
   const std::size_t target = static_cast<std::size_t>(target_d);
   const std::string prefix = argv[3];
-  double angle = 60, size0 = 0, tolerance = 0.1;
+  double angle = 60, size0 = 0, tolerance = 0.1, facet_distance = 0;
   int max_runs = 8;
   bool remesh_always = false;
   std::string only;
@@ -436,6 +440,8 @@ int run_competitors(int argc, char** argv)
       size0 = parse_double(v, o);
     else if(o == "--tolerance")
       tolerance = parse_double(v, o);
+    else if(o == "--facet-distance")
+      facet_distance = parse_double(v, o);
     else if(o == "--max-runs")
       max_runs = static_cast<int>(parse_double(v, o));
     else if(o == "--tetgen-remeshed" && (v == "auto" || v == "always"))
@@ -473,7 +479,7 @@ int run_competitors(int argc, char** argv)
     const double s0 = size0 > 0 ? size0 : std::cbrt(std::sqrt(2.0) * volume / double(target));
     Fit_result r = fit_vertex_count(
         s0, 3, target, tolerance, max_runs,
-        [&](double s, double& seconds) { return run_mesh3(domain, s, seconds); }, "Mesh_3");
+        [&](double s, double& seconds) { return run_mesh3(domain, s, facet_distance, seconds); }, "Mesh_3");
     const std::string path = prefix + "_mesh3.mesh";
     if(r.best_mesh)
       BM::IO::write_medit(path, *r.best_mesh);

@@ -149,6 +149,18 @@ check "vtu has quality" grep -q 'min_dihedral' "$work/m.vtu"
 expect meshed-cube-is-valid 0 "" -- "$tool" eval "$work/m.mesh" --size 0.3 --require-valid --report "$work/mv.json" --quiet
 mvol="$(json_value "$work/mv.json" volume)"
 check "meshed cube volume = 1 ($mvol)" awk -v v="$mvol" 'BEGIN { exit !(v > 0.999999999 && v < 1.000000001) }'
+# eval --surface: the boundary against the surface meshed (exact for the
+# cube), and against the cube scaled by 1.1 (volume error 1 - 1/1.331, the
+# face x = 1 is 0.1 from the face x = 1.1)
+expect eval-surface 0 "" -- "$tool" eval "$work/m.mesh" --surface "$work/cube.off" --report "$work/ms.json" --quiet
+check "volume error 0 against the cube" awk -v v="$(json_value "$work/ms.json" volume_error)" 'BEGIN { exit !(v >= 0 && v < 1e-9) }'
+check "distance 0 against the cube" awk -v v="$(json_value "$work/ms.json" surface_distance)" 'BEGIN { exit !(v >= 0 && v < 1e-9) }'
+awk 'NR > 2 && NR <= 10 { print $1 * 1.1, $2 * 1.1, $3 * 1.1; next } { print }' "$work/cube.off" >"$work/cube11.off"
+expect eval-surface-scaled 0 "" -- "$tool" eval "$work/m.mesh" --surface "$work/cube11.off" --report "$work/ms11.json"
+check "eval prints the surface comparison" grep -q "volume error 24.8" "$work/out.txt"
+check "volume error against the scaled cube" awk -v v="$(json_value "$work/ms11.json" volume_error)" 'BEGIN { exit !(v > 0.2486 && v < 0.2487) }'
+check "distance 0.1 to the scaled cube" awk -v v="$(json_value "$work/ms11.json" surface_distance)" 'BEGIN { exit !(v > 0.0999999 && v < 0.1000001) }'
+expect eval-surface-missing 2 "nosuch.off" -- "$tool" eval "$work/m.mesh" --surface "$work/nosuch.off" --quiet
 expect mesh-same-seed-same-mesh 0 "" -- "$tool" "$work/cube.off" -o "$work/m2.mesh" --size 0.3 --seed 2 --threads 1 --quiet
 check "same seed, 1 thread: identical file" cmp -s "$work/m.mesh" "$work/m2.mesh"
 expect mesh-cylindrical 0 "" -- "$tool" "$work/cube.off" -o "$work/mc.mesh" --metric-cylindrical 0.5,0.5,0,0,0,1,0.25,3,0.5 --quiet
