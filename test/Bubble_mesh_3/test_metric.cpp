@@ -351,7 +351,8 @@ TEST(SurfaceApproximationField, CurvatureSizesGradedIntoTheVolume)
   const CGAL::Surface_approximation_metric_field_3<CGAL::Constant_metric_field_3<K>> field(
       user, sphere.points, sphere.triangles, sphere.patches, D, 0.5);
   EXPECT_TRUE(field.bounded());
-  const double h = std::sqrt(3 * D * 2.0); // about 0.245
+  // sqrt(c D / k) on the sphere of curvature 1/2 (about 0.245 for c = 3)
+  const double h = std::sqrt(CGAL::Surface_approximation_metric_field_3<CGAL::Constant_metric_field_3<K>>::chord_factor() * D * 2.0);
   // on the surface: h in both tangent directions and along the normal
   const K::Point_3 on(2.0 * std::cos(0.3) * std::cos(0.2), 2.0 * std::cos(0.3) * std::sin(0.2), 2.0 * std::sin(0.3));
   const Vector n(on.x() / 2, on.y() / 2, on.z() / 2);
