@@ -561,6 +561,13 @@ private:
       inside_a = inside_b = ring_[std::size_t(top)];
     if(!coplanar && !surface_change_is_small(a, b, p0, pk, ring_[1], ring_[std::size_t(n - 2)], inside_a, inside_b))
       return;
+    // Off a plane the new boundary edge is a chord of the curved surface:
+    // one longer than the metric allows strays by its sagitta (on a cylinder
+    // wall a flip to the circumferential diagonal turned the faces by a few
+    // degrees only, and left a chord of metric length 2, 1.5 times the
+    // surface-distance bound away from the wall)
+    if(!coplanar && metric_edge_length(p0, pk) > std::max(std::sqrt(2.0), metric_edge_length(a, b)))
+      return;
 
     // the old faces as stored (listed orientation), the new ones oriented
     // like them with respect to the inside
@@ -589,6 +596,14 @@ private:
                        oriented_like({{b, p0, pk}}, inside_b, old1, apex_old1)}};
     best.edge_vertices = {{a, b, p0, pk}};
     best.leaves_plane = !coplanar;
+  }
+
+  /// metric length of the segment (i, j): the mean of its lengths in the
+  /// metrics at its ends (as `keeps_edges_in_range()` measures)
+  double metric_edge_length(int i, int j) const
+  {
+    const Eigen::Vector3d d = P(j) - P(i);
+    return 0.5 * (quality_.metric_at(P(i)).length(d) + quality_.metric_at(P(j)).length(d));
   }
 
   /// the largest turn of a boundary triangle (20 degrees) by a surface

@@ -113,6 +113,7 @@ struct Bubble_record {
   Vec3 x = Vec3::Zero();      // centre
   Vec3 v = Vec3::Zero();      // last displacement (the velocity times the time step)
   Vec3 n = Vec3::Zero();      // surface bubbles: unit normal of the face they lie on
+  double step_scale = 1;      // factor of the force in the integrator (below 1 while it swings)
   Sym3 m;                     // metric at x (cached, refreshed with the neighbour lists)
   double h_max = 1;           // largest principal size of m
   double s = 0;               // curve bubbles: arc length from the curve start
