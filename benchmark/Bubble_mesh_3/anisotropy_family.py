@@ -114,14 +114,17 @@ def closest_on_triangles(p, a, b, c):
     return res
 
 
-def wall_distance_and_normal(X, P, F, candidates=24):
+def wall_distance_and_normal(X, P, F, candidates=24, chunk=20000):
     """Distance of each point of X to the surface (P, F) and the unit direction
     away from the wall (from the closest point to the point; the closest face's
     outward normal reversed on the wall itself). Exact: the faces whose
     centroids are nearest give an upper bound d of each point's distance; a face
     closer than d has its centroid within d + its radius (largest centroid to
-    vertex distance), so every such face is tested too (faces of radius above
-    the 90th percentile are tested for every point)."""
+    vertex distance). The faces are bucketed by radius (up to the median, the
+    90th and 99th percentiles, the rest), each bucket searched within d + its
+    largest radius, so that a few large faces (CAD-like inputs) do not widen
+    the search for the many small ones. (Testing the large faces against every
+    point instead took 20 minutes on the bunny's 265,000 background points.)"""
     A, B, C = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
     N = np.cross(B - A, C - A)
     N /= np.maximum(np.linalg.norm(N, axis=1), 1e-300)[:, None]
@@ -142,21 +145,29 @@ def wall_distance_and_normal(X, P, F, candidates=24):
         m = d < best_d[points]
         best_d[points[m]], best_q[points[m]], best_f[points[m]] = d[m], q[m], faces[m]
 
-    r0 = float(np.percentile(radius, 90))
-    big = np.nonzero(radius > r0)[0]
-    small = np.nonzero(radius <= r0)[0]
-    tree = cKDTree(centroid[small])
-    k = min(candidates, len(small))
-    if k > 0:
-        _, cand = tree.query(X, k=k)
-        cand = cand.reshape(len(X), k)
-        test(np.repeat(np.arange(len(X)), k), small[cand.ravel()])
-    for f in big:  # few: every point
-        test(np.arange(len(X)), np.full(len(X), f))
-    lists = tree.query_ball_point(X, best_d + r0)
-    points = np.repeat(np.arange(len(X)), [len(l) for l in lists])
-    if len(points):
-        test(points, small[np.concatenate([np.asarray(l, dtype=np.int64) for l in lists])])
+    # an upper bound from the nearest centroids
+    tree = cKDTree(centroid)
+    k = min(candidates, len(F))
+    for lo in range(0, len(X), chunk):
+        idx = np.arange(lo, min(lo + chunk, len(X)))
+        _, cand = tree.query(X[idx], k=k)
+        cand = np.asarray(cand).reshape(len(idx), k)
+        test(np.repeat(idx, k), cand.ravel())
+    # every face that can be closer, bucket by bucket
+    limits = np.unique(np.percentile(radius, [50, 90, 99, 100]))
+    previous = -np.inf
+    for r in limits:
+        faces = np.nonzero((radius > previous) & (radius <= r))[0]
+        previous = r
+        if not len(faces):
+            continue
+        bucket = cKDTree(centroid[faces])
+        for lo in range(0, len(X), chunk):
+            idx = np.arange(lo, min(lo + chunk, len(X)))
+            lists = bucket.query_ball_point(X[idx], best_d[idx] + r)
+            counts = [len(l) for l in lists]
+            if sum(counts):
+                test(np.repeat(idx, counts), faces[np.concatenate([np.asarray(l, dtype=np.int64) for l in lists])])
     away = X - best_q
     scale = np.linalg.norm(P.max(0) - P.min(0))
     on_wall = best_d < 1e-9 * scale
