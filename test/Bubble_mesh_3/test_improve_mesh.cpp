@@ -1085,6 +1085,23 @@ TEST(ImproveMesh, CapOnACurvedSurfaceIsRemoved)
   ridge.edge_refs = {1};
   const BM::Improvement_report r_ridge = improve_and_check(ridge, field, "ridge is a feature", options);
   EXPECT_EQ(r_ridge.boundary_flips, 0u);
+  // Off a plane the new boundary edge p-q is a chord of the surface: in a
+  // metric of size 1/2 along y it is 4 long, longer than sqrt2 and than the
+  // removed edge a-b (2): the flip is refused, the cap stays. With size 1/2
+  // along x instead, a-b is the longer one (4 against 2): removed as above.
+  for(const bool chord_long : {true, false}) {
+    const V3 sizes = chord_long ? V3(1, 0.5, 1) : V3(0.5, 1, 1);
+    CGAL::Constant_metric_field_3<K> stretched(BM::Metric_3::from_directions_and_sizes(M3::Identity(), sizes));
+    ASSERT_LT(BM::compute_quality_report(mesh, stretched).min_dihedral.worst, options.target_angle);
+    BM::Indexed_tet_mesh_3 m = mesh;
+    const BM::Improvement_report r_m = BM::improve_mesh(m, stretched, options);
+    expect_valid_with_outward_triangles(m);
+    EXPECT_EQ(r_m.boundary_flips, chord_long ? 0u : 1u) << (chord_long ? "long chord" : "short chord");
+    if(chord_long)
+      EXPECT_EQ(m.triangles, mesh.triangles); // the surface as it was
+    else
+      EXPECT_EQ(m.tets.size(), 2u);
+  }
 }
 
 TEST(ImproveMesh, CurvedFeatureVerticesSlideAlongTheCurveWithAProjection)
