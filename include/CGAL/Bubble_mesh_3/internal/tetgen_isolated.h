@@ -32,17 +32,21 @@
 #endif
 #include <tetgen.h>
 
+#include <CGAL/Bubble_mesh_3/exceptions.h>
+
 #include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <vector>
 
 #if defined(__unix__) || defined(__APPLE__)
 #  include <fcntl.h>
+#  include <poll.h>
 #  include <sys/types.h>
 #  include <sys/wait.h>
 #  include <unistd.h>
@@ -127,10 +131,28 @@ inline bool write_all(int fd, const void* data, std::size_t n)
   return true;
 }
 
-inline bool read_all(int fd, void* data, std::size_t n)
+/// Reads n bytes; false at the end of the pipe or on an error. Between
+/// reads it waits for data in slices of 100 ms and asks `should_stop` (if
+/// any) after each: true sets `stopped` and returns false (TetGen can spend
+/// many minutes in its flips on a hard cavity; the caller's time limit and
+/// Ctrl-C must still end the run).
+inline bool read_all(int fd, void* data, std::size_t n, const std::function<bool()>& should_stop, bool& stopped)
 {
   char* p = static_cast<char*>(data);
   while(n > 0) {
+    if(should_stop) {
+      pollfd pfd{fd, POLLIN, 0};
+      const int ready = ::poll(&pfd, 1, 100);
+      if(ready < 0 && errno != EINTR)
+        return false;
+      if(ready <= 0) {
+        if(should_stop()) {
+          stopped = true;
+          return false;
+        }
+        continue;
+      }
+    }
     const ssize_t r = ::read(fd, p, n);
     if(r < 0 && errno == EINTR)
       continue;
@@ -169,9 +191,11 @@ inline bool run(const std::string& switches, tetgenio& in, Tetgen_output& result
 } // namespace tetgen_detail
 
 /// Runs `tetrahedralize(switches, in)`; returns false (with the reason in
-/// `error`) if TetGen reported an error or died.
+/// `error`) if TetGen reported an error or died. With `should_stop`, it is
+/// asked every 100 ms while TetGen runs (in a child process only): true
+/// kills the child and throws `Interrupted`.
 inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, Tetgen_output& result,
-                                    std::string& error)
+                                    std::string& error, const std::function<bool()>& should_stop = {})
 {
   const Injected_fault fault = injected_fault();
 #ifdef CGAL_BUBBLE_MESH_3_TETGEN_FORK
@@ -212,16 +236,35 @@ inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, T
   }
   ::close(fds[1]);
   std::uint64_t header[4] = {0, 0, 0, 0};
-  bool received = read_all(fds[0], header, sizeof header);
-  if(received && header[0] == 1) {
-    result.points.resize(std::size_t(header[1]));
-    result.tets.resize(std::size_t(header[2]));
-    result.intersecting_faces = int(header[3]);
-    received = read_all(fds[0], result.points.data(), result.points.size() * sizeof(double)) &&
-               read_all(fds[0], result.tets.data(), result.tets.size() * sizeof(int));
+  int status = 0;
+  // the child must not outlive a stop: `should_stop` may also throw (the
+  // pipeline's time limit does)
+  auto end_child = [&] {
+    ::close(fds[0]);
+    ::kill(pid, SIGKILL);
+    while(::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+  };
+  bool stopped = false;
+  bool received = false;
+  try {
+    received = read_all(fds[0], header, sizeof header, should_stop, stopped);
+    if(received && header[0] == 1) {
+      result.points.resize(std::size_t(header[1]));
+      result.tets.resize(std::size_t(header[2]));
+      result.intersecting_faces = int(header[3]);
+      received = read_all(fds[0], result.points.data(), result.points.size() * sizeof(double), should_stop, stopped) &&
+                 read_all(fds[0], result.tets.data(), result.tets.size() * sizeof(int), should_stop, stopped);
+    }
+  } catch(...) {
+    end_child();
+    throw;
+  }
+  if(stopped) {
+    end_child();
+    throw Interrupted("TetGen stopped on request");
   }
   ::close(fds[0]);
-  int status = 0;
   while(::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   if(WIFSIGNALED(status)) {
