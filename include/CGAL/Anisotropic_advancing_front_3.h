@@ -1038,7 +1038,7 @@ private:
       const std::size_t points_before = pts_.size();
       cs = F::Cavity_fill_statistics();
       try {
-        filled = F::fill_cavities(remaining, free_nodes, pts_, param_.allow_steiner_points, traits_, cs);
+        filled = F::fill_cavities(remaining, free_nodes, pts_, param_.allow_steiner_points, traits_, cs, param_.should_stop);
         break;
       } catch(const Bubble_mesh_3::Meshing_failure&) {
         pts_.resize(points_before); // Steiner points of fills that were not kept

@@ -380,5 +380,34 @@ for fault in abort crash error wrong; do
   fi
 done
 
+# A TetGen that never answers (fault "hang"): Ctrl-C still ends the run at
+# once, with exit 130, nothing written and TetGen's process gone (the parent
+# polls its stop flag while it waits for TetGen, then kills and reaps it).
+child_of() { # PID -> the first child process's pid (from /proc: no procps needed)
+  cat /proc/[0-9]*/stat 2>/dev/null | awk -v p="$1" '{ pid = $1; sub(/^.*\) /, ""); if ($2 == p) print pid }' |
+    head -n 1
+}
+process_gone() { [ -z "$1" ] || ! kill -0 "$1" 2>/dev/null; }
+rm -f "$ext/fault.mesh"
+BUBBLE_MESH_3_INJECT_FAULT=hang "$tool" "$ext/cube_cylinder.off" -o "$ext/fault.mesh" --metric-ugawg linear,2 \
+  --threads 1 --quiet >"$work/out.txt" 2>"$work/err.txt" &
+hang_pid=$!
+child=""
+for _ in $(seq 1 600); do # up to 60 s until TetGen's process exists
+  child=$(child_of "$hang_pid")
+  [ -n "$child" ] && break
+  kill -0 "$hang_pid" 2>/dev/null || break
+  sleep 0.1
+done
+check "fault-hang: TetGen's process started" [ -n "$child" ]
+kill -INT "$hang_pid" 2>/dev/null
+stopped_at=$(date +%s)
+wait "$hang_pid"
+code=$?
+check "fault-hang: exit 130 after Ctrl-C, not $code" [ "$code" -eq 130 ]
+check "fault-hang: ended within 5 s of Ctrl-C" [ $(( $(date +%s) - stopped_at )) -le 5 ]
+check "fault-hang: no TetGen process left" process_gone "$child"
+check "fault-hang: nothing written" [ ! -e "$ext/fault.mesh" ]
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -27,6 +27,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
@@ -34,6 +36,10 @@
 #include <random>
 #include <set>
 #include <vector>
+
+#if defined(__unix__) || defined(__APPLE__)
+#  include <sys/wait.h>
+#endif
 
 namespace {
 
@@ -672,6 +678,103 @@ TEST(FaultInjection, CavityFillingRejectsEveryTetGenFailure)
     }
   }
 }
+
+#if defined(CGAL_BUBBLE_MESH_3_CAVITY_USES_TETGEN) && defined(CGAL_BUBBLE_MESH_3_TETGEN_FORK)
+// true if this process has no child left (a killed TetGen must be reaped)
+bool no_child_left()
+{
+  int status = 0;
+  return ::waitpid(-1, &status, WNOHANG) < 0 && errno == ECHILD;
+}
+
+// A unit tetrahedron as a TetGen PLC (4 points, 4 triangular facets).
+void tetrahedron_plc(tetgenio& in)
+{
+  const double xyz[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  in.firstnumber = 0;
+  in.numberofpoints = 4;
+  in.pointlist = new REAL[12];
+  std::copy(xyz, xyz + 12, in.pointlist);
+  in.numberoffacets = 4;
+  in.facetlist = new tetgenio::facet[4];
+  in.facetmarkerlist = new int[4];
+  for(int f = 0; f < 4; ++f) {
+    tetgenio::facet& facet = in.facetlist[f];
+    tetgenio::init(&facet);
+    facet.numberofpolygons = 1;
+    facet.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&facet.polygonlist[0]);
+    facet.polygonlist[0].numberofvertices = 3;
+    facet.polygonlist[0].vertexlist = new int[3];
+    std::copy(faces[f], faces[f] + 3, facet.polygonlist[0].vertexlist);
+    in.facetmarkerlist[f] = 1;
+  }
+}
+
+TEST(FaultInjection, TetGenThatNeverAnswersIsStopped)
+{
+  namespace BMI = BM::internal;
+  using clock = std::chrono::steady_clock;
+  auto seconds = [](clock::time_point t0) { return std::chrono::duration<double>(clock::now() - t0).count(); };
+  {
+    // the plain call works, well within its budget
+    tetgenio in;
+    tetrahedron_plc(in);
+    BMI::Tetgen_output out;
+    std::string error;
+    ASSERT_TRUE(BMI::tetrahedralize_isolated("pYMzQ", in, out, error)) << error;
+    EXPECT_EQ(out.tets.size(), 4u);
+    EXPECT_GE(BMI::tetgen_time_budget(in), 20.0);
+  }
+  Injected_fault_scope fault("hang");
+  {
+    // its time budget ends a TetGen that loops: an error, no child left
+    tetgenio in;
+    tetrahedron_plc(in);
+    BMI::Tetgen_output out;
+    std::string error;
+    const auto t0 = clock::now();
+    EXPECT_FALSE(BMI::tetrahedralize_isolated("pYMzQ", in, out, error, {}, 0.5));
+    const double t = seconds(t0);
+    std::cout << "[ measured ] budget 0.5 s: returned after " << t << " s: " << error << "\n";
+    EXPECT_GE(t, 0.5);
+    EXPECT_LT(t, 5.0);
+    EXPECT_NE(error.find("budget"), std::string::npos) << error;
+    EXPECT_TRUE(no_child_left());
+  }
+  {
+    // the caller's stop request ends it sooner: Interrupted, no child left
+    tetgenio in;
+    tetrahedron_plc(in);
+    BMI::Tetgen_output out;
+    std::string error;
+    const auto t0 = clock::now();
+    auto stop = [&] { return seconds(t0) > 0.3; };
+    EXPECT_THROW(BMI::tetrahedralize_isolated("pYMzQ", in, out, error, stop), BM::Interrupted);
+    EXPECT_LT(seconds(t0), 5.0);
+    EXPECT_TRUE(no_child_left());
+  }
+  {
+    // through the cavity filler: a stop request that throws (as the
+    // pipeline's time limit does) passes through, the child killed first
+    namespace F = BMI::front;
+    K traits;
+    std::vector<Point> pts;
+    const std::vector<Tri> cavity = u_prism_cavity(pts);
+    F::Cavity_fill_statistics stats;
+    const auto t0 = clock::now();
+    auto stop = [&]() -> bool {
+      if(seconds(t0) > 0.3)
+        throw BM::Time_limit_exceeded("test time limit");
+      return false;
+    };
+    EXPECT_THROW(F::fill_cavities(cavity, {}, pts, true, traits, stats, stop), BM::Time_limit_exceeded);
+    EXPECT_LT(seconds(t0), 5.0);
+    EXPECT_TRUE(no_child_left());
+  }
+}
+#endif
 
 TEST(FaultInjection, FrontEndsInAValidMeshOrMeshingFailure)
 {

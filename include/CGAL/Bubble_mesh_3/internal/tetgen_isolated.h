@@ -23,7 +23,15 @@
 //   error  TetGen's own error return
 //   wrong  TetGen "succeeds" with a corrupted result: its last tet dropped
 //          and a vertex of its first tet replaced by another point
-// Without fork(), abort and crash are injected as errors.
+//   hang   the child never answers (what TetGen's flips did on a hard
+//          cavity: minutes without end)
+// Without fork(), abort, crash and hang are injected as errors.
+//
+// A child that does not answer within its time budget
+// (`tetgen_time_budget()`, far above what TetGen needs on inputs of that
+// size) is killed and reported as an error, so a TetGen that loops cannot
+// hang the caller; the caller's stop request (`should_stop`) is asked every
+// 100 ms as well.
 #ifndef CGAL_BUBBLE_MESH_3_INTERNAL_TETGEN_ISOLATED_H
 #define CGAL_BUBBLE_MESH_3_INTERNAL_TETGEN_ISOLATED_H
 
@@ -32,17 +40,24 @@
 #endif
 #include <tetgen.h>
 
+#include <CGAL/Bubble_mesh_3/exceptions.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <chrono>
+#include <functional>
 #include <string>
 #include <vector>
 
 #if defined(__unix__) || defined(__APPLE__)
 #  include <fcntl.h>
+#  include <poll.h>
 #  include <sys/types.h>
 #  include <sys/wait.h>
 #  include <unistd.h>
@@ -61,7 +76,7 @@ struct Tetgen_output {
   int intersecting_faces = 0;
 };
 
-enum class Injected_fault { none, abort, crash, error, wrong };
+enum class Injected_fault { none, abort, crash, error, wrong, hang };
 
 /// The fault the environment asks for (`BUBBLE_MESH_3_INJECT_FAULT`, see the
 /// file comment); an unknown value is treated as `error`, so a typo cannot
@@ -78,6 +93,8 @@ inline Injected_fault injected_fault()
     return Injected_fault::crash;
   if(s == "wrong")
     return Injected_fault::wrong;
+  if(s == "hang")
+    return Injected_fault::hang;
   return Injected_fault::error;
 }
 
@@ -127,19 +144,39 @@ inline bool write_all(int fd, const void* data, std::size_t n)
   return true;
 }
 
-inline bool read_all(int fd, void* data, std::size_t n)
+/// Why a read from the child stopped short.
+enum class Read_end { complete, closed, stopped, timed_out };
+
+/// Reads n bytes from the child. It waits for data in slices of 100 ms;
+/// after each empty slice it asks `should_stop` (if any; it may throw) and
+/// checks `deadline`: TetGen can spend many minutes in its flips on a hard
+/// cavity, and neither the caller's time limit nor a loop in TetGen may
+/// hang the caller.
+inline Read_end read_all(int fd, void* data, std::size_t n, const std::function<bool()>& should_stop,
+                         std::chrono::steady_clock::time_point deadline)
 {
   char* p = static_cast<char*>(data);
   while(n > 0) {
+    pollfd pfd{fd, POLLIN, 0};
+    const int ready = ::poll(&pfd, 1, 100);
+    if(ready < 0 && errno != EINTR)
+      return Read_end::closed;
+    if(ready <= 0) {
+      if(should_stop && should_stop())
+        return Read_end::stopped;
+      if(std::chrono::steady_clock::now() > deadline)
+        return Read_end::timed_out;
+      continue;
+    }
     const ssize_t r = ::read(fd, p, n);
     if(r < 0 && errno == EINTR)
       continue;
     if(r <= 0)
-      return false;
+      return Read_end::closed;
     p += r;
     n -= std::size_t(r);
   }
-  return true;
+  return Read_end::complete;
 }
 
 // runs TetGen; false on its own error (it throws an int)
@@ -168,11 +205,26 @@ inline bool run(const std::string& switches, tetgenio& in, Tetgen_output& result
 
 } // namespace tetgen_detail
 
-/// Runs `tetrahedralize(switches, in)`; returns false (with the reason in
-/// `error`) if TetGen reported an error or died.
-inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, Tetgen_output& result,
-                                    std::string& error)
+/// Seconds TetGen may take on `in` before it is taken for looping: 20 s
+/// plus 1 ms per input point and facet, two orders of magnitude above its
+/// usual speed on inputs of that size (a 20,000-tet cavity fill takes well
+/// under a second).
+inline double tetgen_time_budget(const tetgenio& in)
 {
+  return 20.0 + 1e-3 * (double(std::max(0, in.numberofpoints)) + double(std::max(0, in.numberoffacets)));
+}
+
+/// Runs `tetrahedralize(switches, in)`; returns false (with the reason in
+/// `error`) if TetGen reported an error, died or ran longer than
+/// `max_seconds` (negative: `tetgen_time_budget(in)`). With `should_stop`,
+/// it is asked every 100 ms while TetGen runs (in a child process only):
+/// true kills the child and throws `Interrupted`.
+inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, Tetgen_output& result,
+                                    std::string& error, const std::function<bool()>& should_stop = {},
+                                    double max_seconds = -1)
+{
+  if(max_seconds < 0)
+    max_seconds = tetgen_time_budget(in);
   const Injected_fault fault = injected_fault();
 #ifdef CGAL_BUBBLE_MESH_3_TETGEN_FORK
   using namespace tetgen_detail;
@@ -201,6 +253,9 @@ inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, T
       std::abort();
     if(fault == Injected_fault::crash)
       std::raise(SIGSEGV);
+    if(fault == Injected_fault::hang)
+      for(;;)
+        ::pause();
     Tetgen_output r;
     const std::uint64_t ok = run(switches, in, r, fault) ? 1 : 0;
     const std::uint64_t header[4] = {ok, r.points.size(), r.tets.size(), std::uint64_t(r.intersecting_faces)};
@@ -212,16 +267,46 @@ inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, T
   }
   ::close(fds[1]);
   std::uint64_t header[4] = {0, 0, 0, 0};
-  bool received = read_all(fds[0], header, sizeof header);
-  if(received && header[0] == 1) {
-    result.points.resize(std::size_t(header[1]));
-    result.tets.resize(std::size_t(header[2]));
-    result.intersecting_faces = int(header[3]);
-    received = read_all(fds[0], result.points.data(), result.points.size() * sizeof(double)) &&
-               read_all(fds[0], result.tets.data(), result.tets.size() * sizeof(int));
-  }
-  ::close(fds[0]);
   int status = 0;
+  // the child must not outlive a stop: `should_stop` may also throw (the
+  // pipeline's time limit does)
+  auto end_child = [&] {
+    ::close(fds[0]);
+    ::kill(pid, SIGKILL);
+    while(::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+  };
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(std::max(0.0, max_seconds)));
+  Read_end end = Read_end::closed;
+  try {
+    end = read_all(fds[0], header, sizeof header, should_stop, deadline);
+    if(end == Read_end::complete && header[0] == 1) {
+      result.points.resize(std::size_t(header[1]));
+      result.tets.resize(std::size_t(header[2]));
+      result.intersecting_faces = int(header[3]);
+      end = read_all(fds[0], result.points.data(), result.points.size() * sizeof(double), should_stop, deadline);
+      if(end == Read_end::complete)
+        end = read_all(fds[0], result.tets.data(), result.tets.size() * sizeof(int), should_stop, deadline);
+    }
+  } catch(...) {
+    end_child();
+    throw;
+  }
+  if(end == Read_end::stopped) {
+    end_child();
+    throw Interrupted("TetGen stopped on request");
+  }
+  if(end == Read_end::timed_out) {
+    end_child();
+    char budget[32];
+    std::snprintf(budget, sizeof budget, "%.3g", max_seconds);
+    error = std::string("TetGen did not finish within its budget of ") + budget + " s and was stopped";
+    return false;
+  }
+  const bool received = end == Read_end::complete;
+  ::close(fds[0]);
   while(::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   if(WIFSIGNALED(status)) {
@@ -236,8 +321,10 @@ inline bool tetrahedralize_isolated(const std::string& switches, tetgenio& in, T
   }
   return true;
 #else
+  (void)should_stop; // TetGen in process cannot be stopped
   if(!tetgen_detail::run(switches, in, result,
-                         fault == Injected_fault::abort || fault == Injected_fault::crash ? Injected_fault::error
+                         fault == Injected_fault::abort || fault == Injected_fault::crash || fault == Injected_fault::hang
+                             ? Injected_fault::error
                                                                                           : fault)) {
     error = "TetGen reported an error on this input";
     return false;

@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -62,6 +63,9 @@ struct Padding_options {
   /// the box is the bounding box of the domain enlarged on each side by
   /// `relative_margin` times its largest extent
   double relative_margin = 0.25;
+  /// asked every 100 ms while TetGen runs; true (or an exception it throws)
+  /// stops TetGen and ends the padding with `Interrupted`
+  std::function<bool()> should_stop;
 };
 
 /// The padded mesh and what is needed to tell its parts apart.
@@ -303,7 +307,7 @@ inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const
   {
     Tetgen_output intersecting;
     std::string error;
-    if (!tetrahedralize_isolated("pdMzQ", in, intersecting, error))
+    if (!tetrahedralize_isolated("pdMzQ", in, intersecting, error, options.should_stop))
       throw Meshing_failure("exterior padding: TetGen failed to check the domain boundary (" + error + ")");
     if (intersecting.intersecting_faces > 0)
       throw Invalid_input("exterior padding: the domain boundary self-intersects (" +
@@ -317,7 +321,7 @@ inline Padded_tet_mesh_3 pad_to_box_once(const Indexed_tet_mesh_3& domain, const
   Tetgen_output out;
   {
     std::string error;
-    if (!tetrahedralize_isolated("pYMzQ", in, out, error))
+    if (!tetrahedralize_isolated("pYMzQ", in, out, error, options.should_stop))
       throw Meshing_failure("exterior padding: TetGen failed on the domain boundary (" + error + ")");
   }
 

@@ -28,6 +28,7 @@
 #include <CGAL/Bubble_mesh_3/internal/front/front_geometry.h>
 
 #include <algorithm>
+#include <functional>
 #include <array>
 #include <map>
 #include <numeric>
@@ -123,7 +124,8 @@ bool fan(const std::vector<Tri>& cavity, int apex, const std::vector<int>& watch
 /// TetGen on all the remaining triangles; returns the tets of the cavities
 template <typename Traits>
 std::vector<Tet> tetgen_fill(const std::vector<Tri>& faces, const std::vector<int>& free_nodes,
-                             std::vector<typename Traits::Point_3>& pts, bool allow_steiner, const Traits& traits)
+                             std::vector<typename Traits::Point_3>& pts, bool allow_steiner, const Traits& traits,
+                             const std::function<bool()>& should_stop)
 {
   typedef typename Traits::Point_3 Point_3;
   std::vector<int> ids;
@@ -163,7 +165,7 @@ std::vector<Tet> tetgen_fill(const std::vector<Tri>& faces, const std::vector<in
   // apart, z: 0-based, Q: quiet; in a child process (tetgen_isolated.h)
   Tetgen_output out;
   std::string error;
-  if(!tetrahedralize_isolated("pYMzQ", in, out, error))
+  if(!tetrahedralize_isolated("pYMzQ", in, out, error, should_stop))
     throw Meshing_failure("advancing front: TetGen could not tetrahedralize the remaining cavities (" + error + ")");
   const int number_of_points = int(out.points.size() / 3);
   std::vector<int> global(std::size_t(number_of_points), -1);
@@ -269,7 +271,7 @@ std::vector<Tet> tetgen_fill(const std::vector<Tri>& faces, const std::vector<in
 template <typename Traits>
 std::vector<Tet> fill_cavities(const std::vector<Tri>& faces, const std::vector<int>& free_nodes,
                                std::vector<typename Traits::Point_3>& pts, bool allow_steiner, const Traits& traits,
-                               Cavity_fill_statistics& stats)
+                               Cavity_fill_statistics& stats, const std::function<bool()>& should_stop = {})
 {
   typedef typename Traits::Point_3 Point_3;
   std::vector<Tet> result;
@@ -335,7 +337,7 @@ std::vector<Tet> fill_cavities(const std::vector<Tri>& faces, const std::vector<
   if(left.empty())
     return result;
 #ifdef CGAL_BUBBLE_MESH_3_CAVITY_USES_TETGEN
-  std::vector<Tet> filled = tetgen_fill(left, free_nodes, pts, allow_steiner, traits);
+  std::vector<Tet> filled = tetgen_fill(left, free_nodes, pts, allow_steiner, traits, should_stop);
   ++stats.tetgen_fills;
   result.insert(result.end(), filled.begin(), filled.end());
   return result;

@@ -39,7 +39,12 @@ void c3t3_stage(const Domain_mesh& dm, const MeshDomain& domain, const Run_contr
   std::size_t padding_tets = 0;
   try {
     if(has_exterior_padding) {
-      const Padded_tet_mesh_3 padded = pad_to_box(dm.mesh);
+      Padding_options padding;
+      padding.should_stop = [&control] {
+        control.check("the exterior padding", false);
+        return false;
+      };
+      const Padded_tet_mesh_3 padded = pad_to_box(dm.mesh, padding);
       std::vector<C3t3_vertex_location> locations = dm.locations;
       locations.resize(padded.mesh.points.size(), C3t3_vertex_location{3, 0});
       tet_mesh_to_c3t3(padded.mesh, locations, domain, c3t3);
