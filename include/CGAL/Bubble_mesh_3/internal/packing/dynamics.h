@@ -417,7 +417,9 @@ private:
       double overlap = 0;
       double nearest = cut;
       // stiffness of i's pairs: sum |f'(w)| |grad_i w|^2 (gradient in M_i),
-      // and what it would be in a constant metric (|grad_i w| = 1)
+      // and what it would be in a constant metric (|grad_i w| = 1); equal
+      // where every neighbour has i's metric (flat), so only measured elsewhere
+      const bool measure_stiffness = !flat_[i];
       double stiffness = 0, constant_metric_stiffness = 0;
       for(const int* jp = lists_.begin(i); jp != lists_.end(i); ++jp) {
         const Hot_bubble& bj = hot_[*jp];
@@ -443,11 +445,13 @@ private:
           const double k = 2 * fw / ((a + b) * (a + b));
           f -= (k * b * b / a) * d;
           g -= (k * a * a / b) * mjd;
-          const double slope = std::abs(force_(w + 1e-4) - force_(std::max(0.0, w - 1e-4))) / 2e-4;
-          const Vec3 grad_w = (2 * b * b / ((a + b) * (a + b) * a)) * d +
-                              (2 * a * a / ((a + b) * (a + b) * b)) * (minv_[i] * mjd);
-          stiffness += slope * bi.m.squared_length(grad_w);
-          constant_metric_stiffness += slope;
+          if(measure_stiffness) {
+            const double slope = std::abs(force_(w + 1e-4) - force_(std::max(0.0, w - 1e-4))) / 2e-4;
+            const Vec3 grad_w = (2 * b * b / ((a + b) * (a + b) * a)) * d +
+                                (2 * a * a / ((a + b) * (a + b) * b)) * (minv_[i] * mjd);
+            stiffness += slope * bi.m.squared_length(grad_w);
+            constant_metric_stiffness += slope;
+          }
           if(G) {
             // The first-order correction holds while the metric changes
             // little across the pair. Where it changes by a large factor (a
