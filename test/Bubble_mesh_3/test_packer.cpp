@@ -634,6 +634,49 @@ TEST(BubblePacker, GradedStretched3DConverges)
   EXPECT_NEAR(double(pts.size()) / estimate, 0.9, 0.12);
 }
 
+TEST(BubblePacker, BoundaryLayerConverges)
+{
+  // A 1:10 boundary layer on the wall z = 0 of a 1 x 1 x 0.4 box: the
+  // normal size grows from 0.01 at the wall by the distance to it, up to the
+  // tangential size 0.1 at z = 0.09 (about two bubbles across). The four side walls cross the
+  // layer: on them the metric's own variation (the gradient correction of
+  // the pair force) outgrows the pair force, and unbounded it kept the
+  // surface stage swinging to its 400-iteration cap (bounded: about 40).
+  Polyhedron p = make_box(1, 1, 0.4);
+  Domain domain(p);
+  domain.detect_features(60);
+  auto field = CGAL::make_function_metric_field_3<K>([](const Point_3& q) {
+    const double hn = std::min(0.1, 0.01 + std::max(0.0, q.z()));
+    return Metric::from_entries(100, 0, 0, 100, 0, 1 / (hn * hn));
+  });
+  typedef CGAL::Bubble_packer_3<Domain, decltype(field)> Packer;
+  Packer packer(domain, field);
+  packer.run();
+  print_statistics(packer);
+  const std::vector<Vec3> pts = positions(packer);
+  const std::vector<double> nearest = nearest_normalized_distances(pts, field);
+  std::vector<double> layer; // nodes inside the layer, off the wall
+  std::size_t k = 0;
+  for(const auto& n : packer.nodes()) {
+    if(n.dimension == 3 && n.point.z() < 0.09)
+      layer.push_back(nearest[k]);
+    ++k;
+  }
+  std::cout << "    nodes " << pts.size() << " (estimate " << packer.estimated_number_of_bubbles()
+            << "), nearest w min " << *std::min_element(nearest.begin(), nearest.end()) << " median "
+            << median(nearest) << ", interior of the layer: " << layer.size() << " nodes, median "
+            << median(layer) << "\n";
+  for(int d = 1; d < 4; ++d)
+    EXPECT_TRUE(packer.statistics().stages[d].converged) << "stage of dimension " << d;
+  EXPECT_LE(packer.statistics().stages[2].iterations, 150);
+  EXPECT_LE(packer.statistics().stages[3].iterations, 250);
+  EXPECT_GE(*std::min_element(nearest.begin(), nearest.end()), 0.5);
+  EXPECT_GE(median(nearest), 0.78);
+  // the layer holds about 4 bubbles across its 0.045: about 150 off the wall
+  EXPECT_GE(layer.size(), 110u);
+  EXPECT_GE(median(layer), 0.72);
+}
+
 // ---------------------------------------------------------------------------
 // Implicit domains (Labeled_mesh_domain_3), feature curves given by the user.
 
