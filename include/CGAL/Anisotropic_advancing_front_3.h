@@ -27,6 +27,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <queue>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -53,6 +54,9 @@ struct Advancing_front_statistics {
   std::size_t cavity_enlargements = 0; ///< failed fills answered by undoing more tets, searching and advancing again
   std::size_t unused_nodes = 0;       ///< nodes no tet uses (outside the boundary)
   std::size_t removability_tests = 0; ///< the front's work (one or two per tet when it closes well)
+  std::size_t fallback_tests = 0;     ///< of which by the best-quality fallback
+  std::size_t recovery_tests = 0;     ///< of which by the searches in undone cavities
+  std::size_t wakes = 0;              ///< waiting triangles woken by a tet added or removed in their region
   bool work_limit_reached = false;    ///< the front stopped at its work budget; the fillers closed the rest
   double seconds = 0;
 };
@@ -74,9 +78,9 @@ struct Advancing_front_statistics {
 /// live nodes on its inner side whose M-circumsphere with the triangle
 /// contains no other such node: the modified Delaunay criterion, decided by the
 /// traits' exact `Side_of_oriented_metric_sphere_SOS_3` with node ids as the
-/// symbolic perturbation (so there is always exactly one). `M` is the metric
-/// at the centroid of the front triangle, one matrix for all the tests of that
-/// decision, which keeps them mutually consistent. Candidates come from a grid
+/// symbolic perturbation (so there is always exactly one). `M` is the mean of
+/// the metrics at the front triangle's three vertices, one matrix for all the
+/// tests of that decision, which keeps them mutually consistent. Candidates come from a grid
 /// over the nodes, searched first within `Parameters::search_radius` metric
 /// units of the triangle and then over the bounding box of the winner's
 /// M-circumsphere until that box is covered (so the choice is exactly the
@@ -192,20 +196,54 @@ private:
   typedef Bubble_mesh_3::internal::front::Box Box;
   typedef std::array<double, 3> P3;
 
+  /// Why a pair is not removable, and for how long: a wrong orientation
+  /// forever (nodes do not move), a front triangle in the way while it is on
+  /// the front, a node in the tet while it is alive. (Recoveries, which can
+  /// bring triangles and nodes back, drop every recorded reason.)
+  struct Blocker {
+    enum Kind : char { none, always, face, node } kind = none;
+    int id = -1;
+  };
+
+  struct Candidate {
+    double quality;
+    int node;
+    bool rejected;
+    Blocker why; // while rejected
+  };
+
   struct Face {
     Triangle v;
     Box box; // of its vertices
     bool alive = true;
     bool waiting = false;      // its Delaunay pair was not removable
-    bool listed = false;       // in `waiting_` (once, even if woken and waiting again)
     // while waiting: the box its decisions depend on (its triangle, the tets
     // they tested; the scanned boxes when a Delaunay search ended before
     // covering its winner's sphere); only a tet added in it can change them
     // (tets are removed only by recoveries, which re-decide every face)
     Box region;
-    bool fallback_dirty = true;
-    double fallback_quality = -1;
-    int fallback_node = -1;
+    // the best-quality fallback (see best_quality_step): the candidate nodes
+    // ranked by the quality of their tet, and those found not removable
+    std::vector<Candidate> ranked;
+    bool ranked_valid = false;
+    std::size_t cursor = 0;        // the next candidate to offer
+    Box rejected_box;              // of the rejected candidates' tets
+    bool has_rejected = false;
+    // its Delaunay node when the search covered the node's sphere (it stays
+    // the Delaunay node until it dies: nodes only die while the front
+    // advances), and why that pair was not removable
+    int delaunay = -1;
+    Blocker delaunay_why;
+    unsigned stamp = 0;            // heap entries with another stamp are stale
+  };
+
+  // a waiting face's best candidate not yet found not removable; the
+  // fallback takes the highest (quality, then the oldest face)
+  struct Heap_entry {
+    double quality;
+    int face;
+    unsigned stamp;
+    bool operator<(const Heap_entry& o) const { return quality < o.quality || (quality == o.quality && face > o.face); }
   };
 
   struct Key_hash {
@@ -272,7 +310,7 @@ private:
     front_count_.assign(n, 0);
     tet_count_.assign(n, 0);
     queue_.clear();
-    waiting_.clear();
+    fallback_heap_ = decltype(fallback_heap_)();
     stats_ = Statistics();
     alive_faces_ = 0;
     // the front: boundary triangles reversed (the unmeshed side is positive)
@@ -301,6 +339,10 @@ private:
       xyz[i] = xyz_[old_id_[i]];
     }
     xyz_.swap(xyz);
+    node_metric_.clear();
+    node_metric_.reserve(n);
+    for(int i = 0; i < n; ++i)
+      node_metric_.push_back(metric_at(xyz_[i]));
   }
 
   /// the caller's id of node v (Steiner points keep theirs)
@@ -341,6 +383,7 @@ private:
       g.alive = false;
       if(g.waiting)
         stop_waiting(it->second);
+      std::vector<Candidate>().swap(g.ranked);
       --alive_faces_;
       for(int v : g.v)
         --front_count_[v];
@@ -376,7 +419,7 @@ private:
       // the outward face's reverse is the front face it consumes, or a new front face
       toggle_face(o);
     }
-    wake_neighbours(t);
+    wake_neighbours(t, false);
     if(param_.progress && tets_.size() % param_.progress_interval == 0)
       param_.progress(tets_.size(), std::size_t(alive_faces_));
   }
@@ -395,7 +438,7 @@ private:
       // the space of the tet becomes unmeshed: its faces point into it
       toggle_face(Triangle{{o[0], o[2], o[1]}});
     }
-    wake_neighbours(t);
+    wake_neighbours(t, true);
   }
 
   /// Waiting triangles whose decisions looked where `t` is get another
@@ -404,7 +447,10 @@ private:
   /// and a tet changes those only inside its own box, so the others keep
   /// their decisions: on a 1:100 layer a Euclidean neighbourhood of the
   /// tet's size woke a third of the front for every tet.
-  void wake_neighbours(const Tetrahedron& t)
+  /// A woken triangle keeps what it knows while it still holds (its
+  /// Delaunay node, its ranked candidates and why they were not removable),
+  /// unless the tet was removed.
+  void wake_neighbours(const Tetrahedron& t, bool removed)
   {
     if(waiting_count_ == 0)
       return;
@@ -415,8 +461,13 @@ private:
       if(f.alive && f.waiting && f.region.meets(b))
         woken_.push_back(id);
     });
+    stats_.wakes += woken_.size();
     for(int id : woken_) {
       stop_waiting(id);
+      if(removed) { // triangles and nodes can come back: the recorded reasons are void
+        faces_[id].ranked_valid = false;
+        faces_[id].delaunay = -1;
+      }
       queue_.push_back(id);
     }
   }
@@ -424,24 +475,63 @@ private:
   void start_waiting(int id, const Box& region)
   {
     Face& f = faces_[id];
+    reconsider_rejected(f);
     f.waiting = true;
-    f.fallback_dirty = true;
     f.region = region;
     f.region.extend(f.box);
+    if(f.ranked_valid && f.has_rejected)
+      f.region.extend(f.rejected_box);
     waiting_grid_.insert(id, f.region);
     ++waiting_count_;
-    if(!f.listed) {
-      f.listed = true;
-      waiting_.push_back(id);
-    }
+    f.cursor = 0;
+    push_next_candidate(id);
   }
 
   void stop_waiting(int id)
   {
     Face& f = faces_[id];
     f.waiting = false;
+    ++f.stamp;
     waiting_grid_.remove(id, f.region);
     --waiting_count_;
+  }
+
+  /// A rejected candidate stays rejected while what blocked it is there
+  void reconsider_rejected(Face& f)
+  {
+    if(!f.ranked_valid || !f.has_rejected)
+      return;
+    f.has_rejected = false;
+    for(Candidate& c : f.ranked) {
+      if(!c.rejected)
+        continue;
+      if(!still_blocks(c.why)) {
+        c.rejected = false;
+        continue;
+      }
+      const Box b = box_of({f.v[0], f.v[1], f.v[2], c.node});
+      if(f.has_rejected)
+        f.rejected_box.extend(b);
+      else
+        f.rejected_box = b;
+      f.has_rejected = true;
+    }
+  }
+
+  /// offers the waiting face's next candidate not known to be rejected (an
+  /// unranked face is offered first, ranked when it comes out)
+  void push_next_candidate(int id)
+  {
+    Face& f = faces_[id];
+    ++f.stamp;
+    if(!f.ranked_valid) {
+      fallback_heap_.push(Heap_entry{std::numeric_limits<double>::infinity(), id, f.stamp});
+      return;
+    }
+    while(f.cursor < f.ranked.size() && f.ranked[f.cursor].rejected)
+      ++f.cursor;
+    if(f.cursor < f.ranked.size())
+      fallback_heap_.push(Heap_entry{f.ranked[f.cursor].quality, id, f.stamp});
   }
 
   /// a waiting face's decisions looked into `b` too
@@ -460,6 +550,23 @@ private:
   {
     typedef typename Metric_field::Point_3 Field_point;
     return Metric(field_(Field_point(x[0], x[1], x[2])));
+  }
+
+  /// The metric of the decisions on front triangle f: the mean of its
+  /// vertices' metrics. On a layer whose metric changes within one element
+  /// the metric at the centroid is that of neither side, and neighbouring
+  /// triangles' choices disagreed. The mean of positive definite
+  /// matrices is positive definite; should it be more anisotropic than
+  /// Metric_3 accepts, the centroid's metric is used.
+  Metric decision_metric(const Triangle& f) const
+  {
+    auto at = [&](int v) { return v < int(node_metric_.size()) ? node_metric_[v] : metric_at(xyz_[v]); };
+    const Metric::Matrix mean = (at(f[0]).matrix() + at(f[1]).matrix() + at(f[2]).matrix()) / 3.0;
+    try {
+      return Metric(mean);
+    } catch(const Bubble_mesh_3::Invalid_metric&) {
+      return metric_at(centroid({f[0], f[1], f[2]}));
+    }
   }
 
   P3 centroid(std::initializer_list<int> ids) const
@@ -587,9 +694,10 @@ private:
   }
 
   /// the node of the modified Delaunay pair of f, or -1
-  int delaunay_node(const Triangle& f, Box& region)
+  int delaunay_node(const Triangle& f, Box& region, bool& exact)
   {
-    const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
+    exact = false;
+    const Metric m = decision_metric(f);
     auto side = traits_.side_of_oriented_metric_sphere_SOS_3_object();
     // The Delaunay node minimises a strict total order along the pencil of
     // spheres through f ("q inside the sphere of (f, best)" means q comes
@@ -627,6 +735,7 @@ private:
         // itself, and whether its tet is removable changes only with the
         // front inside the tet's box: that box is all the decision depends on
         region = box_of({f[0], f[1], f[2], best});
+        exact = true;
         return best;
       }
       if(has_sphere)
@@ -639,22 +748,40 @@ private:
   }
 
   // ---------------------------------------------------------- removability
-  bool removable(int fid, int p)
+  bool still_blocks(const Blocker& b) const
   {
+    switch(b.kind) {
+    case Blocker::always: return true;
+    case Blocker::face: return faces_[b.id].alive;
+    case Blocker::node: return is_alive_node(b.id);
+    default: return false;
+    }
+  }
+
+  bool removable(int fid, int p, Blocker* why = nullptr)
+  {
+    Blocker local;
+    Blocker& blocker = why ? *why : local;
+    blocker = Blocker();
     if(++stats_.removability_tests % std::max<std::size_t>(param_.work_report_interval, 1) == 0 &&
        param_.work_progress)
       report_work();
     namespace F = Bubble_mesh_3::internal::front;
     const Triangle f = faces_[fid].v;
-    if(traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[p]) != CGAL::POSITIVE)
+    if(traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[p]) != CGAL::POSITIVE) {
+      blocker.kind = Blocker::always;
       return false;
+    }
     const std::array<Triangle, 3> nf = F::new_faces(f, p);
     std::array<int, 3> partner{{-1, -1, -1}};
     for(int i = 0; i < 3; ++i) {
       auto it = face_of_.find(F::sorted(nf[i]));
       if(it != face_of_.end()) {
-        if(F::same_orientation(faces_[it->second].v, nf[i]))
+        if(F::same_orientation(faces_[it->second].v, nf[i])) {
+          blocker.kind = Blocker::face;
+          blocker.id = it->second;
           return false; // would double the front over itself
+        }
         partner[i] = it->second;
       }
     }
@@ -698,8 +825,11 @@ private:
         return;
       for(int i = 0; i < 3 && ok; ++i)
         if(gid != partner[i] && nb[i].meets(gb) &&
-           F::triangles_meet_beyond_shared(nf[i], g, pts_, traits_, &planes[i]))
+           F::triangles_meet_beyond_shared(nf[i], g, pts_, traits_, &planes[i])) {
           ok = false;
+          blocker.kind = Blocker::face;
+          blocker.id = gid;
+        }
     });
     if(!ok)
       return false;
@@ -720,6 +850,8 @@ private:
          traits_.orientation_3_object()(pts_[f[0]], pts_[f[1]], pts_[f[2]], pts_[q]) == CGAL::NEGATIVE)
         return;
       ok = false;
+      blocker.kind = Blocker::node;
+      blocker.id = q;
     });
     return ok;
   }
@@ -755,85 +887,92 @@ private:
       Face& f = faces_[fid];
       if(!f.alive || f.waiting)
         continue;
+      if(f.delaunay >= 0 && is_alive_node(f.delaunay) && still_blocks(f.delaunay_why)) {
+        start_waiting(fid, box_of({f.v[0], f.v[1], f.v[2], f.delaunay}));
+        continue;
+      }
       Box region;
-      const int p = delaunay_node(f.v, region);
-      if(p >= 0 && removable(fid, p)) {
+      bool exact = false;
+      const int p = delaunay_node(f.v, region, exact);
+      Blocker why;
+      if(p >= 0 && removable(fid, p, &why)) {
         const Triangle v = f.v;
         add_tet(Tetrahedron{{v[0], v[1], v[2], p}});
         ++stats_.delaunay_tets;
         progress = true;
       } else {
+        faces_[fid].delaunay = exact ? p : -1;
+        faces_[fid].delaunay_why = why;
         start_waiting(fid, region);
       }
     }
     return progress;
   }
 
-  /// the best removable pair of f by quality (cached until something changes nearby)
-  void evaluate_fallback(int fid)
+  /// ranks the candidate nodes of waiting face `id` by the quality of their tet
+  void rank_candidates(int id)
   {
-    Face& face = faces_[fid];
-    face.fallback_dirty = false;
-    face.fallback_quality = -1;
-    face.fallback_node = -1;
-    const Triangle f = face.v;
-    const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
-    std::vector<std::pair<double, int>> ranked;
+    const Triangle f = faces_[id].v;
+    const Metric m = decision_metric(f);
+    std::vector<Candidate> ranked;
     for(int attempt = 0; attempt < 3 && ranked.empty(); ++attempt) {
-      const Box b = search_box(f, m, double(1 << attempt));
-      candidates(f, b, cand_);
+      candidates(f, search_box(f, m, double(1 << attempt)), cand_);
       for(int q : cand_)
-        ranked.emplace_back(tet_quality(f, q), q);
+        ranked.push_back(Candidate{tet_quality(f, q), q, false});
     }
-    std::sort(ranked.begin(), ranked.end(),
-              [this](const std::pair<double, int>& a, const std::pair<double, int>& b) {
-                return a.first > b.first || (a.first == b.first && caller_id(a.second) < caller_id(b.second));
-              });
-    // the candidates can only die, so the choice changes only if the
-    // removability of a pair tested here changes (the front or the live
-    // nodes in its tet's box) or the chosen node dies (in its box too)
-    for(const auto& r : ranked) {
-      extend_region(fid, box_of({f[0], f[1], f[2], r.second}));
-      if(removable(fid, r.second)) {
-        faces_[fid].fallback_quality = r.first;
-        faces_[fid].fallback_node = r.second;
-        return;
-      }
-    }
+    std::sort(ranked.begin(), ranked.end(), [this](const Candidate& a, const Candidate& b) {
+      return a.quality > b.quality || (a.quality == b.quality && caller_id(a.node) < caller_id(b.node));
+    });
+    Face& face = faces_[id];
+    face.ranked.swap(ranked);
+    face.ranked_valid = true;
+    face.has_rejected = false;
+    face.cursor = 0;
   }
 
+  /// Adds the removable pair of best quality over all waiting triangles.
+  /// The candidates of each waiting triangle are ranked once (they can only
+  /// die) and offered to a max-heap one at a time, best first: the heap's top
+  /// is the best pair not yet found not removable, so only pairs that could
+  /// win are tested. A pair found not removable stays so until a tet is added
+  /// in its box, which wakes its triangle (the triangle's region covers it).
+  /// Heap entries of triangles woken or consumed since are stale (stamps).
   bool best_quality_step()
   {
-    waiting_.erase(std::remove_if(waiting_.begin(), waiting_.end(),
-                                  [&](int id) {
-                                    Face& f = faces_[id];
-                                    if(f.alive && f.waiting)
-                                      return false;
-                                    f.listed = false;
-                                    return true;
-                                  }),
-                   waiting_.end());
-    for(int attempt = 0; attempt < 2; ++attempt) {
-      int best = -1;
-      for(int id : waiting_) {
-        check_stop();
-        if(faces_[id].fallback_dirty)
-          evaluate_fallback(id);
-        if(faces_[id].fallback_node >= 0 &&
-           (best < 0 || faces_[id].fallback_quality > faces_[best].fallback_quality))
-          best = id;
+    while(!fallback_heap_.empty()) {
+      check_stop();
+      const Heap_entry e = fallback_heap_.top();
+      fallback_heap_.pop();
+      if(!faces_[e.face].alive || !faces_[e.face].waiting || faces_[e.face].stamp != e.stamp)
+        continue;
+      if(!faces_[e.face].ranked_valid) {
+        rank_candidates(e.face);
+        push_next_candidate(e.face);
+        continue;
       }
-      if(best < 0)
-        return false;
-      const int p = faces_[best].fallback_node;
-      if(removable(best, p)) { // the cache may be stale
-        const Triangle v = faces_[best].v;
+      Face& f = faces_[e.face];
+      const Triangle v = f.v;
+      const int p = f.ranked[f.cursor].node;
+      Blocker why;
+      if(!is_alive_node(p))
+        why.kind = Blocker::always; // dead nodes stay dead until a recovery
+      else if((++stats_.fallback_tests, removable(e.face, p, &why))) {
         add_tet(Tetrahedron{{v[0], v[1], v[2], p}});
         ++stats_.best_quality_tets;
         return true;
       }
-      for(int id : waiting_)
-        faces_[id].fallback_dirty = true;
+      Face& g = faces_[e.face]; // removable() does not add faces, but be safe
+      g.ranked[g.cursor].rejected = true;
+      g.ranked[g.cursor].why = why;
+      const Box b = box_of({v[0], v[1], v[2], p});
+      if(g.has_rejected)
+        g.rejected_box.extend(b);
+      else
+        g.rejected_box = b;
+      g.has_rejected = true;
+      extend_region(e.face, b);
+      ++g.cursor;
+      push_next_candidate(e.face);
     }
     return false;
   }
@@ -877,13 +1016,14 @@ private:
       return out;
     const int fid = it->second;
     const Triangle f = faces_[fid].v;
-    const Metric m = metric_at(centroid({f[0], f[1], f[2]}));
+    const Metric m = decision_metric(f);
     candidates(f, search_box(f, m, 2.0), cand_);
     std::vector<std::pair<double, int>> ranked;
     const std::vector<int> cand = cand_;
     for(int q : cand) {
       --budget_;
       check_stop();
+      ++stats_.recovery_tests;
       if(removable(fid, q))
         ranked.emplace_back(tet_quality(f, q), q);
     }
@@ -965,17 +1105,18 @@ private:
     }
     for(Face& f : faces_)
       if(f.alive) {
-        f.fallback_dirty = true;
         f.waiting = false;
-        f.listed = false;
+        f.ranked_valid = false;
+        f.delaunay = -1;
+        ++f.stamp;
       }
     waiting_count_ = 0;
     waiting_grid_.clear();
+    fallback_heap_ = decltype(fallback_heap_)();
     queue_.clear();
     for(const auto& kv : face_of_)
       queue_.push_back(kv.second);
     std::sort(queue_.begin(), queue_.end());
-    waiting_.clear();
   }
 
   /// whether the front's work passed `Parameters::removability_tests_per_node`
@@ -1131,7 +1272,8 @@ private:
   long waiting_count_ = 0; // alive faces waiting: nothing to wake while 0
   std::vector<int> front_count_, tet_count_;
   std::deque<int> queue_;
-  std::vector<int> waiting_;
+  std::priority_queue<Heap_entry> fallback_heap_;
+  std::vector<Metric> node_metric_; // at each node (internal ids), for decision_metric
   std::vector<int> cand_;
   long alive_faces_ = 0;
   std::size_t alive_tets_ = 0;

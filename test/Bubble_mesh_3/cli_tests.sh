@@ -331,11 +331,13 @@ check "ugawg linear, surface distance auto: diagonal / 200" near \
 check "ugawg linear, surface distance auto: boundary within it" awk \
   -v d="$(json_value "$ext/ugawg-auto.json" surface_distance)" 'BEGIN { exit !(d != "" && d <= 0.00866025) }'
 # UGAWG polar-1 (a 1:100 layer on the cylinder wall, thinner than the sagitta
-# of the wall's chords), sizes x2: the front keeps failing, stops at its work
-# budget and the cavity fillers close the rest (at scale 1 it ran for hours)
+# of the wall's chords), sizes x2: the front gets stuck again and again; its
+# recoveries and the cavity fillers close it well within its work budget (it
+# ran for hours at scale 1 before the budget; then it used all of it until its
+# fallback re-tested only the pairs whose blockers were gone)
 expect ugawg-polar1 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1.mesh" --metric-ugawg polar-1,2 \
   --report "$ext/polar1.json" --threads 1 --seed 0 --time-limit 300 --quiet
-check "ugawg polar-1: the front reached its work budget" grep -q '"front_work_limit_reached": true' "$ext/polar1.json"
+check "ugawg polar-1: the front closed within its work budget" grep -q '"front_work_limit_reached": false' "$ext/polar1.json"
 expect ugawg-polar1-valid 0 "" -- "$tool" eval "$ext/polar1.mesh" --metric-ugawg polar-1,2 --require-valid --quiet
 # Surface distance: the cylinder wall of the cube-cylinder at a coarse size
 # (0.25, twice the wall's radius over 3): the boundary stays within the bound
