@@ -32,7 +32,8 @@ vertices and written as SolAtVertices (type 3). The tool interpolates it
 (log-Euclidean).
 
 Table: exit, vertices, seconds per stage (packing, boundary front, advancing
-front, improvement), packing iterations per stage (a '*' marks a stage stopped
+front, improvement), packing iterations per stage (an 's' marks a stage that
+settled, see Bubble_packer_3::Stage_statistics::settled; a '*' one stopped
 at its cap), nodes the boundary front added, worst / p01 metric minimum
 dihedral angle, worst metric mean ratio, metric edges in [1/sqrt2, sqrt2] after
 the advancing front and after the improvement. Exit status 0 when every run
@@ -311,7 +312,8 @@ def row(r):
         return "| %s | %s | %d | | | | | | | | | | | %.1f |" % (r["surface"], r["case"], r["exit"], r["seconds"])
     its = m.get("packing_iterations", [])
     conv = m.get("packing_converged", [])
-    it_text = "/".join("%d%s" % (i, "" if c else "*") for i, c in zip(its, conv))
+    settled = m.get("packing_settled", [False] * len(conv))
+    it_text = "/".join("%d%s" % (i, "" if c else ("s" if st else "*")) for i, c, st in zip(its, conv, settled))
     ps = sum(m.get("packing_seconds", []))
     return "| %s | %s | %d | %d | %.1f / %.1f / %.1f / %.1f | %s | %d | %.1f | %.1f | %.3f | %.1f %% | %.1f %% | %.1f |" % (
         r["surface"], r["case"], r["exit"], j.get("vertices", 0), ps, m.get("boundary_seconds", 0),

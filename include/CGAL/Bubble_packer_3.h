@@ -52,7 +52,9 @@ namespace CGAL {
 /// dynamics with adaptive population control (deletion of over-lapped
 /// bubbles, insertion in gaps) until a round changes nothing, then to
 /// convergence: the largest displacement of one iteration, in metric units, is
-/// below `Parameters::tolerance`, or `Parameters::maximum_iterations` is hit.
+/// below `Parameters::tolerance`; or until it has settled (a few bubbles
+/// still creeping where the metric varies sharply, see
+/// `Stage_statistics::settled`); or until `Parameters::maximum_iterations`.
 /// `run()` calls the four stages.
 ///
 /// <b>Threads and determinism.</b> With TBB (`CGAL_LINKED_WITH_TBB`), forces,
@@ -138,7 +140,13 @@ public:
     double expected_bubbles = 0;    ///< the initial estimate (density times metric measure)
     std::size_t seeded = 0;         ///< the initial population after clean-up
     int iterations = 0;
-    bool converged = false;
+    bool converged = false;         ///< the largest step of an iteration fell below `Parameters::tolerance`
+    /// stopped because the packing had settled: over windows of 10 iterations
+    /// the 99th percentile of the bubbles' mean steps was below the tolerance
+    /// and no longer decreasing (a sharply varying metric can leave a slow
+    /// creep that more iterations do not improve)
+    bool settled = false;
+    std::size_t still_moving = 0;   ///< when settled: bubbles whose mean step was above the tolerance
     double last_maximum_displacement = 0;
     std::size_t inserted = 0;
     std::size_t deleted = 0;
@@ -397,6 +405,8 @@ private:
     const auto r = relaxation.run();
     s.iterations = r.iterations;
     s.converged = r.converged;
+    s.settled = r.settled;
+    s.still_moving = r.still_moving;
     s.last_maximum_displacement = r.last_maximum_displacement;
     s.inserted = r.inserted;
     s.deleted = r.deleted;

@@ -339,6 +339,14 @@ expect ugawg-polar1 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1.mes
   --report "$ext/polar1.json" --threads 1 --seed 0 --time-limit 300 --quiet
 check "ugawg polar-1: the front closed within its work budget" grep -q '"front_work_limit_reached": false' "$ext/polar1.json"
 expect ugawg-polar1-valid 0 "" -- "$tool" eval "$ext/polar1.mesh" --metric-ugawg polar-1,2 --require-valid --quiet
+# UGAWG polar-1 at scale 1: the volume packing settles into a slow creep
+# (its largest step stays above the tolerance) and ran to its cap of 400
+# iterations; it must stop once settled, and say so
+expect ugawg-polar1-packing 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1-full.mesh" --metric-ugawg polar-1 \
+  --report "$ext/polar1-full.json" --threads 2 --seed 0 --no-improve --time-limit 600 --quiet
+check "ugawg polar-1: no packing stage at its cap" awk -v its="$(grep -oE '"packing_iterations": \[[^]]*\]' "$ext/polar1-full.json")" \
+  'BEGIN { gsub(/[^0-9,]/, "", its); n = split(its, a, ","); if (n != 4) exit 1; for (i = 1; i <= 4; ++i) if (a[i] + 0 >= 400) exit 1 }'
+check "ugawg polar-1: the volume stage reports that it settled" grep -qE '"packing_settled": \[[a-z, ]*true\]' "$ext/polar1-full.json"
 # Surface distance: the cylinder wall of the cube-cylinder at a coarse size
 # (0.25, twice the wall's radius over 3): the boundary stays within the bound
 # (sampled over the triangles), and 'off' meshes the metric as given

@@ -166,7 +166,7 @@ void print_statistics(const Packer& packer)
   for(int d = 0; d < 4; ++d) {
     const auto& s = st.stages[d];
     std::cout << "    dim " << d << ": bubbles " << s.bubbles << " (expected " << s.expected_bubbles << ", seeded "
-              << s.seeded << "), iterations " << s.iterations << (s.converged ? " converged" : " NOT converged")
+              << s.seeded << "), iterations " << s.iterations << (s.converged ? " converged" : s.settled ? " settled" : " NOT converged")
               << ", last step " << s.last_maximum_displacement << ", +" << s.inserted << " -" << s.deleted << " in "
               << s.population_rounds << " rounds, " << s.seconds << " s\n";
   }

@@ -28,7 +28,11 @@ struct Meshing_report {
   std::array<std::size_t, 4> nodes{{0, 0, 0, 0}}; ///< packed nodes per dimension (corner, curve, patch, interior)
   std::array<double, 4> packing_seconds{{0, 0, 0, 0}};
   std::array<int, 4> packing_iterations{{0, 0, 0, 0}};
-  std::array<bool, 4> packing_converged{{true, true, true, true}};
+  std::array<bool, 4> packing_converged{{true, true, true, true}}; ///< the largest step fell below the tolerance
+  /// the stage stopped because it had settled: its bubbles' mean steps stopped
+  /// decreasing with the bulk below the tolerance, a few still creeping
+  std::array<bool, 4> packing_settled{{false, false, false, false}};
+  std::array<std::size_t, 4> packing_still_moving{{0, 0, 0, 0}}; ///< when settled: bubbles whose mean step was above the tolerance
   double estimated_nodes = 0;
   std::size_t boundary_triangles = 0;
   double boundary_seconds = 0;
@@ -88,10 +92,15 @@ inline std::string to_json(const Meshing_report& r)
   for(std::size_t i = 0; i < 4; ++i)
     conv += std::string(i ? ", " : "") + (r.packing_converged[i] ? "true" : "false");
   conv += "]";
+  std::string settled = "[";
+  for(std::size_t i = 0; i < 4; ++i)
+    settled += std::string(i ? ", " : "") + (r.packing_settled[i] ? "true" : "false");
+  settled += "]";
   std::ostringstream o;
   o << "{\n    \"estimated_nodes\": " << num(r.estimated_nodes) << ",\n    \"nodes_per_dimension\": " << arr(r.nodes)
     << ",\n    \"packing_seconds\": " << arr(r.packing_seconds) << ",\n    \"packing_iterations\": "
-    << arr(r.packing_iterations) << ",\n    \"packing_converged\": " << conv
+    << arr(r.packing_iterations) << ",\n    \"packing_converged\": " << conv << ",\n    \"packing_settled\": " << settled
+    << ",\n    \"packing_still_moving\": " << arr(r.packing_still_moving)
     << ",\n    \"boundary_triangles\": " << r.boundary_triangles << ",\n    \"added_boundary_nodes\": "
     << r.added_boundary_nodes << ",\n    \"boundary_repair_rounds\": " << r.boundary_repair_rounds << ",\n    \"boundary_seconds\": "
     << num(r.boundary_seconds) << ",\n    \"tets\": " << r.tets << ",\n    \"delaunay_tets\": " << r.front.delaunay_tets
@@ -145,10 +154,19 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
     << std::llround(r.estimated_nodes) << ")\n";
   o << "packing:  " << r.packing_seconds[1] << " s curves, " << r.packing_seconds[2] << " s surfaces, "
     << r.packing_seconds[3] << " s interior (iterations " << r.packing_iterations[1] << "/" << r.packing_iterations[2]
-    << "/" << r.packing_iterations[3] << (r.packing_converged[1] && r.packing_converged[2] && r.packing_converged[3]
-                                               ? ", converged"
-                                               : ", iteration cap reached")
-    << ")\n";
+    << "/" << r.packing_iterations[3];
+  {
+    const char* names[4] = {"corners", "curves", "surfaces", "interior"};
+    bool capped = false;
+    std::string how;
+    for(int d = 1; d < 4; ++d) {
+      capped = capped || !(r.packing_converged[d] || r.packing_settled[d]);
+      if(r.packing_settled[d])
+        how += std::string(how.empty() ? "" : ", ") + names[d] + " (" + std::to_string(r.packing_still_moving[d]) +
+               " still creeping)";
+    }
+    o << (capped ? ", iteration cap reached" : how.empty() ? ", converged" : ", settled: " + how) << ")\n";
+  }
   o << "boundary: " << r.boundary_triangles << " triangles, " << r.boundary_seconds << " s";
   if(r.added_boundary_nodes > 0)
     o << " (" << r.added_boundary_nodes << " nodes added where the packed ones could not represent the surface, "

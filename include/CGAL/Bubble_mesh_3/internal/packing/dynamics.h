@@ -9,7 +9,8 @@
 // entity, and runs population control every few iterations until a round
 // changes nothing (or the round cap). It stops when the largest displacement of
 // an iteration, in metric units of the moving bubble, is below the tolerance
-// after the population is stable, or at the iteration cap.
+// after the population is stable (converged), when the packing has settled
+// (see window_settled), or at the iteration cap.
 //
 // Constraint (thread-safe, const):
 //   void move(Bubble_record& b, const Vec3& delta) const;   // b.x += delta, kept on the entity
@@ -45,6 +46,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -65,6 +67,10 @@ struct Relaxation_settings {
 struct Relaxation_result {
   int iterations = 0;
   bool converged = false;
+  // stopped because the packing settled: the bubbles' mean steps over a
+  // window stopped decreasing, the bulk below the tolerance (window_settled)
+  bool settled = false;
+  std::size_t still_moving = 0; // when settled: bubbles whose mean step was above the tolerance
   double last_maximum_displacement = 0;
   std::size_t inserted = 0;
   std::size_t deleted = 0;
@@ -149,6 +155,8 @@ public:
         result.converged = true;
         break;
       }
+      if(stable && window_settled(result))
+        break;
       if(!stable && (still || since_control >= traits_.population_control_period())) {
         since_control = 0;
         ++result.population_rounds;
@@ -525,6 +533,8 @@ private:
         // convergence is judged on the step the unscaled force would make: a
         // bubble held back by its step scale has not settled
         mx = std::max(mx, bi.m.length(bi.v) / (flat_[i] ? 1.0 : bi.step_scale));
+        if(window_steps_ > 0)
+          window_sum_[i] += bi.v;
         // where the metric varies, a bubble whose step reverses swings about
         // its equilibrium faster than the damping removes it: its force is
         // scaled down until it does not, and recovers by 5 % a step (the
@@ -548,6 +558,50 @@ private:
         needs_rebuild_ = true;
     }
     return mx;
+  }
+
+  /// Where the metric changes sharply (a 1:100 layer on a curved wall), the
+  /// packing can settle into a slow steady creep instead of converging: on
+  /// the UGAWG polar-1 volume, from its 100th iteration to its cap of 400,
+  /// the bubbles' mean step per iteration kept a median of 0.003 and a 99th
+  /// percentile of 0.012 - 0.019 metric units while the largest step stayed
+  /// above the tolerance. Those 300 iterations took 70 % of the stage's time
+  /// and did not give a better mesh (stopped at 120: mean-ratio p01 0.21
+  /// against 0.18, edges in range 91.3 % against 90.8 %). Settled: over
+  /// windows of 10 iterations, the 99th percentile of the bubbles' mean step
+  /// is below the tolerance and no lower than 0.9 times the lower of the
+  /// two windows before it (no longer decreasing). A packing that still
+  /// converges lowers it by more than that and goes on.
+  bool window_settled(Relaxation_result& result)
+  {
+    constexpr int window = 10;
+    const std::size_t n = b_.size();
+    if(window_steps_ == 0) { // a window starts with the next step
+      window_sum_.assign(n, Vec3::Zero());
+      window_steps_ = 1;
+      return false;
+    }
+    if(++window_steps_ <= window)
+      return false;
+    window_steps_ = 0;
+    mean_steps_.clear();
+    for(std::size_t i = 0; i < n; ++i)
+      if(!b_[i].fixed)
+        mean_steps_.push_back(b_[i].m.length(window_sum_[i]) / window);
+    if(mean_steps_.empty())
+      return false;
+    const std::size_t k = std::min(mean_steps_.size() - 1, std::size_t(0.99 * double(mean_steps_.size())));
+    std::nth_element(mean_steps_.begin(), mean_steps_.begin() + std::ptrdiff_t(k), mean_steps_.end());
+    const double p99 = mean_steps_[k];
+    const double previous = std::min(window_p99_[0], window_p99_[1]);
+    window_p99_[1] = window_p99_[0];
+    window_p99_[0] = p99;
+    if(!(p99 < settings_.tolerance && p99 >= 0.9 * previous))
+      return false;
+    result.settled = true;
+    result.still_moving = std::size_t(
+        std::count_if(mean_steps_.begin(), mean_steps_.end(), [&](double v) { return v >= settings_.tolerance; }));
+    return true;
   }
 
   std::vector<Bubble_record>& b_;
@@ -579,6 +633,10 @@ private:
   static constexpr double minimum_step_scale = 1.0 / 16;
   bool needs_rebuild_ = false;
   std::size_t rebuilds_ = 0;
+  int window_steps_ = 0;          // 1 + the steps summed in window_sum_; 0: no window open
+  std::vector<Vec3> window_sum_;  // per bubble, the sum of its steps in the window
+  std::vector<double> mean_steps_;
+  std::array<double, 2> window_p99_{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}};
 };
 
 } // namespace packing

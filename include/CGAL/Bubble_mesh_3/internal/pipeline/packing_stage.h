@@ -55,8 +55,12 @@ pack_nodes(const MeshDomain& domain, const MetricField& field, const Meshing_set
     rep.packing_seconds[d] = st.seconds;
     rep.packing_iterations[d] = st.iterations;
     rep.packing_converged[d] = st.converged;
+    rep.packing_settled[d] = st.settled;
+    rep.packing_still_moving[d] = st.still_moving;
     control.say(std::string("packed ") + stage_names[d] + ": " + std::to_string(st.bubbles) + " bubbles, " +
-                std::to_string(st.iterations) + " iterations, " + std::to_string(st.seconds) + " s");
+                std::to_string(st.iterations) + " iterations" +
+                (st.settled ? " (settled: " + std::to_string(st.still_moving) + " still creeping)" : "") + ", " +
+                std::to_string(st.seconds) + " s");
     control.check(std::string("the packing (after the ") + stage_names[d] + ")");
   }
   return packer.nodes();
