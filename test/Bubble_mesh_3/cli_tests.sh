@@ -339,6 +339,13 @@ expect ugawg-polar1 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1.mes
   --report "$ext/polar1.json" --threads 1 --seed 0 --time-limit 300 --quiet
 check "ugawg polar-1: the front closed within its work budget" grep -q '"front_work_limit_reached": false' "$ext/polar1.json"
 expect ugawg-polar1-valid 0 "" -- "$tool" eval "$ext/polar1.mesh" --metric-ugawg polar-1,2 --require-valid --quiet
+# UGAWG polar-2 (polar-1 with the tangential size refined near the wall), sizes x2
+expect ugawg-polar2 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar2.mesh" --metric-ugawg polar-2,2 \
+  --threads 1 --seed 0 --time-limit 300 --quiet
+expect ugawg-polar2-valid 0 "" -- "$tool" eval "$ext/polar2.mesh" --metric-ugawg polar-2,2 --require-valid \
+  --report "$ext/polar2.json" --quiet
+check "ugawg polar-2: most edges in range" awk -v f="$(grep -oE '"in_range_fraction": [0-9.eE+-]+' "$ext/polar2.json" | sed 's/.*: //')" \
+  'BEGIN { exit !(f != "" && f >= 0.9) }'
 # UGAWG polar-1 at scale 1: the volume packing settles into a slow creep
 # (its largest step stays above the tolerance) and ran to its cap of 400
 # iterations; it must stop once settled, and say so

@@ -128,11 +128,14 @@ private:
 ///   a 1:100 layer at z = 0.5;
 /// - `polar_1` (on the cube-cylinder, the unit cube minus the cylinder of radius
 ///   0.5 about the z axis): h_r = h0 + 2 (0.1 - h0) |r - 0.5|, h_theta = h_z = 0.1,
-///   r = sqrt(x^2 + y^2), a 1:100 layer on the curved wall.
+///   r = sqrt(x^2 + y^2), a 1:100 layer on the curved wall;
+/// - `polar_2` (on the cube-cylinder): as `polar_1` with the tangential size
+///   refined near the wall, h_theta = 0.1 d + 0.025 (1 - d), d = min(10 |r - 0.5|, 1),
+///   so that the metric grades gently along the wall.
 /// Every size is multiplied by `scale` (2 gives about 8 times fewer nodes).
 class Ugawg_metric {
 public:
-  enum Kind { linear, polar_1 };
+  enum Kind { linear, polar_1, polar_2 };
 
   explicit Ugawg_metric(Kind kind, double scale = 1) : kind_(kind), scale_(scale)
   {
@@ -140,14 +143,16 @@ public:
       throw Invalid_input("UGAWG metric: the scale must be a positive number");
   }
 
-  /// `"linear"` or `"polar-1"`; throws `Invalid_input` for any other name
+  /// `"linear"`, `"polar-1"` or `"polar-2"`; throws `Invalid_input` for any other name
   static Kind kind_from_name(const std::string& name)
   {
     if(name == "linear")
       return linear;
     if(name == "polar-1")
       return polar_1;
-    throw Invalid_input("UGAWG metric: unknown case '" + name + "' (known: linear, polar-1)");
+    if(name == "polar-2")
+      return polar_2;
+    throw Invalid_input("UGAWG metric: unknown case '" + name + "' (known: linear, polar-1, polar-2)");
   }
 
   template <typename Point>
@@ -161,13 +166,18 @@ public:
     }
     const double r = std::sqrt(x * x + y * y);
     const double hr = h0 + 2 * (0.1 - h0) * std::abs(r - 0.5);
+    double ht = 0.1;
+    if(kind_ == polar_2) {
+      const double d = std::min(10 * std::abs(r - 0.5), 1.0);
+      ht = 0.1 * d + 0.025 * (1 - d);
+    }
     if(!(r > 1e-12)) // on the axis (outside the benchmark's domain): no radial direction
       return Metric_3::isotropic(scale_ * hr);
     Eigen::Matrix3d dirs;
     dirs.col(0) = Eigen::Vector3d(x / r, y / r, 0);
     dirs.col(1) = Eigen::Vector3d(-y / r, x / r, 0);
     dirs.col(2) = Eigen::Vector3d(0, 0, 1);
-    return Metric_3::from_directions_and_sizes(dirs, scale_ * Eigen::Vector3d(hr, 0.1, 0.1));
+    return Metric_3::from_directions_and_sizes(dirs, scale_ * Eigen::Vector3d(hr, ht, 0.1));
   }
 
 private:
