@@ -61,6 +61,35 @@ struct Domain {
   std::size_t boundary_nodes = 0;
 };
 
+// The six faces of a box of n[0] x n[1] x n[2] grid cells, each square in two
+// triangles, outward; vertex(g) gives the node of grid point g.
+template <class Vertex>
+void add_box_faces(const std::array<int, 3>& n, Vertex&& vertex, std::vector<Tri>& boundary)
+{
+  for(int axis = 0; axis < 3; ++axis)
+    for(int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for(int i = 0; i < n[u]; ++i)
+        for(int j = 0; j < n[v]; ++j) {
+          std::array<int, 3> g00, g10, g11, g01;
+          g00[axis] = g10[axis] = g11[axis] = g01[axis] = side * n[axis];
+          g00[u] = i, g00[v] = j;
+          g10[u] = i + 1, g10[v] = j;
+          g11[u] = i + 1, g11[v] = j + 1;
+          g01[u] = i, g01[v] = j + 1;
+          const int p00 = vertex(g00), p10 = vertex(g10), p11 = vertex(g11), p01 = vertex(g01);
+          // (u, v, axis) is right-handed: counterclockwise in (u, v) faces +axis
+          if(side == 1) {
+            boundary.push_back({{p00, p10, p11}});
+            boundary.push_back({{p00, p11, p01}});
+          } else {
+            boundary.push_back({{p00, p11, p10}});
+            boundary.push_back({{p00, p01, p11}});
+          }
+        }
+    }
+}
+
 // A box [0,a]x[0,b]x[0,c] with its faces split into an n-grid (each square
 // in two triangles, outward), boundary nodes first, then `inner` jittered
 // grid nodes strictly inside at spacing ~h.
@@ -79,28 +108,7 @@ Domain box(double a, double b, double c, double h, unsigned seed, double jitter 
       d.points.emplace_back(size[0] * g[0] / n[0], size[1] * g[1] / n[1], size[2] * g[2] / n[2]);
     return it.first->second;
   };
-  for(int axis = 0; axis < 3; ++axis)
-    for(int side = 0; side < 2; ++side) {
-      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      for(int i = 0; i < n[u]; ++i)
-        for(int j = 0; j < n[v]; ++j) {
-          std::array<int, 3> g00, g10, g11, g01;
-          g00[axis] = g10[axis] = g11[axis] = g01[axis] = side * n[axis];
-          g00[u] = i, g00[v] = j;
-          g10[u] = i + 1, g10[v] = j;
-          g11[u] = i + 1, g11[v] = j + 1;
-          g01[u] = i, g01[v] = j + 1;
-          const int p00 = vertex(g00), p10 = vertex(g10), p11 = vertex(g11), p01 = vertex(g01);
-          // (u, v, axis) is right-handed: counterclockwise in (u, v) faces +axis
-          if(side == 1) {
-            d.boundary.push_back({{p00, p10, p11}});
-            d.boundary.push_back({{p00, p11, p01}});
-          } else {
-            d.boundary.push_back({{p00, p11, p10}});
-            d.boundary.push_back({{p00, p01, p11}});
-          }
-        }
-    }
+  add_box_faces(n, vertex, d.boundary);
   d.boundary_nodes = d.points.size();
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> U(-jitter, jitter);
@@ -428,27 +436,7 @@ Domain shock_sheet_nodes(const Shock_sheet& sheet, unsigned seed)
     return it.first->second;
   };
   const std::array<int, 3> cells{{n, n, nz}};
-  for(int axis = 0; axis < 3; ++axis)
-    for(int side = 0; side < 2; ++side) {
-      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      for(int i = 0; i < cells[u]; ++i)
-        for(int j = 0; j < cells[v]; ++j) {
-          std::array<int, 3> g00, g10, g11, g01;
-          g00[axis] = g10[axis] = g11[axis] = g01[axis] = side * cells[axis];
-          g00[u] = i, g00[v] = j;
-          g10[u] = i + 1, g10[v] = j;
-          g11[u] = i + 1, g11[v] = j + 1;
-          g01[u] = i, g01[v] = j + 1;
-          const int p00 = vertex(g00), p10 = vertex(g10), p11 = vertex(g11), p01 = vertex(g01);
-          if(side == 1) {
-            d.boundary.push_back({{p00, p10, p11}});
-            d.boundary.push_back({{p00, p11, p01}});
-          } else {
-            d.boundary.push_back({{p00, p11, p10}});
-            d.boundary.push_back({{p00, p01, p11}});
-          }
-        }
-    }
+  add_box_faces(cells, vertex, d.boundary);
   d.boundary_nodes = d.points.size();
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> U(-0.2, 0.2);
