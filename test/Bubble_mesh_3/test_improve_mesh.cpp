@@ -1763,6 +1763,67 @@ TEST(ImproveMesh, EdgeCollapsesRemoveClusteredVertices)
               resolved, twins.size());
 }
 
+// Edge lengths: points spaced for a size of about 0.11 in a field whose size
+// grows from 0.05 (x = 0: edges about twice too long) to 0.2 (x = 1: edges
+// about half as long as they should be). Flips and moves cannot change the
+// node density; the length phase splits the long edges and collapses the
+// short ones. With it: many more edges in [1/sqrt2, sqrt2], both kinds of
+// change applied, the mesh valid with outward triangles, the volume and the
+// boundary's areas unchanged, the corners kept, no worse worst angle than
+// the lower of the plain run's and the phase's floor.
+TEST(ImproveMesh, EdgeLengthsSplitGapsAndCollapseClusters)
+{
+  auto f = [](const K::Point_3& p) {
+    const double h = 0.05 + 0.15 * p.x();
+    return BM::Metric_3::from_directions_and_sizes(M3::Identity(), V3(h, h, h));
+  };
+  auto field = CGAL::make_function_metric_field_3<K>(f);
+  BM::Indexed_tet_mesh_3 input = delaunay_mesh(grid_cube_points(8, 800, 0.05, 5));
+  expect_valid_with_outward_triangles(input);
+  const BM::Quality_report q0 = BM::compute_quality_report(input, field);
+  ASSERT_GT(q0.edge_length.long_fraction, 0.2);
+  ASSERT_GT(q0.edge_length.short_fraction, 0.1);
+
+  BM::Improvement_options options = deterministic();
+  options.keep_edges_in_range = true;
+  BM::Indexed_tet_mesh_3 plain = input;
+  const BM::Improvement_report r0 = BM::improve_mesh(plain, field, options);
+  EXPECT_EQ(r0.length_splits + r0.length_collapses, 0u);
+
+  BM::Indexed_tet_mesh_3 mesh = input;
+  options.edge_lengths = true;
+  const BM::Improvement_report r = BM::improve_mesh(mesh, field, options);
+  expect_valid_with_outward_triangles(mesh);
+  const BM::Quality_report q = BM::compute_quality_report(mesh, field);
+  EXPECT_EQ(q.inverted_tets + q.degenerate_tets, 0u);
+  EXPECT_GT(r.length_splits, 50u);
+  EXPECT_GT(r.length_collapses, 20u);
+  EXPECT_LE(r.length_splits, r.edge_splits);
+  EXPECT_LE(r.length_collapses, r.edge_collapses);
+  EXPECT_EQ(mesh.points.size(), input.points.size() + r.edge_splits - r.edge_collapses);
+  EXPECT_GT(r.edges_in_range_after, r0.edges_in_range_after + 0.1);
+  EXPECT_LT(q.edge_length.long_fraction, q0.edge_length.long_fraction / 2);
+  EXPECT_LT(q.edge_length.short_fraction, q0.edge_length.short_fraction / 2);
+  EXPECT_GE(r.worst_after, std::min(r0.worst_after, 20.0) - 1e-9);
+  EXPECT_NEAR(volumes(mesh).total, 1.0, 1e-12);
+  const std::map<int, double> area_before = areas_per_ref(input), area_after = areas_per_ref(mesh);
+  for(const auto& kv : area_before)
+    EXPECT_NEAR(area_after.at(kv.first), kv.second, 1e-12);
+  std::size_t corners = 0;
+  for(const auto& p : input.points)
+    if((p[0] == 0 || p[0] == 1) && (p[1] == 0 || p[1] == 1) && (p[2] == 0 || p[2] == 1)) {
+      ++corners;
+      EXPECT_NE(std::find(mesh.points.begin(), mesh.points.end(), p), mesh.points.end()) << "a corner was removed";
+    }
+  EXPECT_EQ(corners, 8u);
+  std::printf("[edge lengths] in range %.1f %% (long %.1f, short %.1f) -> plain %.1f %%, with the length phase %.1f %% "
+              "(long %.1f, short %.1f; %zu splits, %zu collapses); worst %.2f / %.2f deg\n",
+              100 * q0.edge_length.in_range_fraction, 100 * q0.edge_length.long_fraction,
+              100 * q0.edge_length.short_fraction, 100 * r0.edges_in_range_after, 100 * r.edges_in_range_after,
+              100 * q.edge_length.long_fraction, 100 * q.edge_length.short_fraction, r.length_splits,
+              r.length_collapses, r0.worst_after, r.worst_after);
+}
+
 // Clusters on feature curves: the same well-shaped cube gets a twin on four
 // of its feature edges (cube edges), 2 % of the way from one end of a
 // feature edge to the other, by splitting that edge (its tets, its two

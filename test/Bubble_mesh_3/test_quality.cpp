@@ -687,6 +687,8 @@ TEST(QualityReport, UnitCubeInIdentityMetric)
   EXPECT_NEAR(r.edge_length.mean, (12 + 6 * std::sqrt(2.0) + std::sqrt(3.0)) / 19, 1e-15);
   // [1/sqrt 2, sqrt 2] includes its bounds: only the body diagonal is out.
   EXPECT_DOUBLE_EQ(r.edge_length.in_range_fraction, 18.0 / 19);
+  EXPECT_DOUBLE_EQ(r.edge_length.short_fraction, 0);
+  EXPECT_DOUBLE_EQ(r.edge_length.long_fraction, 1.0 / 19);
 }
 
 TEST(QualityReport, UnitCubeInIsotropicAndAnisotropicMetrics)
@@ -697,6 +699,7 @@ TEST(QualityReport, UnitCubeInIsotropicAndAnisotropicMetrics)
     // 1.25 sqrt 3 (out); volume 1 / 0.8^3; angles unchanged.
     const BM::Quality_report r = BM::compute_quality_report(mesh, CGAL::Constant_metric_field_3<Epick>::isotropic(0.8));
     EXPECT_DOUBLE_EQ(r.edge_length.in_range_fraction, 12.0 / 19);
+    EXPECT_DOUBLE_EQ(r.edge_length.long_fraction, 7.0 / 19);
     EXPECT_NEAR(r.edge_length.min, 1.25, 1e-14);
     EXPECT_NEAR(r.edge_length.max, 1.25 * std::sqrt(3.0), 1e-14);
     EXPECT_NEAR(r.metric_volume, 1 / 0.512, 1e-13);
@@ -712,6 +715,8 @@ TEST(QualityReport, UnitCubeInIsotropicAndAnisotropicMetrics)
     const BM::Metric_3 m = BM::Metric_3::from_entries(1, 0, 0, 1, 0, 1.0 / 16);
     const BM::Quality_report r = BM::compute_quality_report(mesh, CGAL::Constant_metric_field_3<Epick>(m));
     EXPECT_DOUBLE_EQ(r.edge_length.in_range_fraction, 14.0 / 19);
+    EXPECT_DOUBLE_EQ(r.edge_length.short_fraction, 4.0 / 19);
+    EXPECT_DOUBLE_EQ(r.edge_length.long_fraction, 1.0 / 19);
     EXPECT_NEAR(r.edge_length.min, 0.25, 1e-15);
     EXPECT_NEAR(r.metric_volume, 0.25, 1e-15);
     double worst = 180;
@@ -952,8 +957,10 @@ TEST(QualityReport, JsonIsValidAndHoldsTheValues)
   EXPECT_EQ(ratio["p01"].number, r.mean_ratio.p01);
   EXPECT_EQ(ratio["mean"].number, r.mean_ratio.mean);
   EXPECT_EQ(ratio["worst_tet"].number, static_cast<double>(r.mean_ratio.worst_tet));
-  for(const char* key : {"min", "max", "mean", "in_range_fraction"})
+  for(const char* key : {"min", "max", "mean", "in_range_fraction", "short_fraction", "long_fraction"})
     EXPECT_TRUE(el.has(key)) << key;
+  EXPECT_EQ(el["short_fraction"].number, r.edge_length.short_fraction);
+  EXPECT_EQ(el["long_fraction"].number, r.edge_length.long_fraction);
   EXPECT_EQ(el["min"].number, r.edge_length.min);
   EXPECT_EQ(el["max"].number, r.edge_length.max);
   EXPECT_EQ(el["mean"].number, r.edge_length.mean);

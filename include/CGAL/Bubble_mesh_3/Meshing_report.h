@@ -129,7 +129,10 @@ inline std::string to_json(const Meshing_report& r)
     << ", \"feature_edge_splits\": " << r.improvement.feature_edge_splits
     << ", \"edge_collapses\": " << r.improvement.edge_collapses
     << ", \"boundary_edge_collapses\": " << r.improvement.boundary_edge_collapses
-    << ", \"feature_edge_collapses\": " << r.improvement.feature_edge_collapses << ", \"seconds\": " << num(r.improvement.seconds)
+    << ", \"feature_edge_collapses\": " << r.improvement.feature_edge_collapses
+    << ", \"length_splits\": " << r.improvement.length_splits
+    << ", \"length_collapses\": " << r.improvement.length_collapses
+    << ", \"length_flips\": " << r.improvement.length_flips << ", \"seconds\": " << num(r.improvement.seconds)
     << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"surface_distance\": "
     << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
@@ -205,6 +208,11 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
       << (i.time_limit_reached ? ", time limit reached" : "") << ")\n";
     o << "improve:  metric edges in [0.707, 1.414] " << 100 * i.edges_in_range_before << " -> "
       << 100 * i.edges_in_range_after << " %, longest " << i.longest_edge_before << " -> " << i.longest_edge_after
+      << (i.length_splits + i.length_collapses + i.length_flips > 0
+              ? " (for lengths: " + std::to_string(i.length_splits) + " splits, " +
+                    std::to_string(i.length_collapses) + " collapses, " + std::to_string(i.length_flips) +
+                    " edge removals)"
+              : std::string())
       << "\n";
     if(r.improvement_boundary_fixed)
       o << "improve:  its first run made the boundary intersect itself at a thin part: redone with the boundary "

@@ -95,6 +95,10 @@ struct Quality_report {
     double mean = 0;
     /// fraction of edges whose length lies in [1/sqrt(2), sqrt(2)] (bounds included)
     double in_range_fraction = 0;
+    /// fractions of edges shorter than 1/sqrt(2) and longer than sqrt(2): the
+    /// out-of-range rest split into too short (clusters) and too long (gaps)
+    double short_fraction = 0;
+    double long_fraction = 0;
     std::size_t number_of_edges = 0;
   };
 
@@ -397,15 +401,20 @@ Quality_report::Edge_length metric_edge_lengths(const Indexed_tet_mesh_3& mesh, 
     const double high = std::sqrt(2.0);
     el.min = lengths[0];
     el.max = lengths[0];
-    std::size_t in_range = 0;
+    std::size_t in_range = 0, too_short = 0;
     for(double l : lengths) {
       el.min = std::min(el.min, l);
       el.max = std::max(el.max, l);
       if(l >= low && l <= high)
         ++in_range;
+      else if(l < low)
+        ++too_short;
     }
     el.mean = internal::compensated_sum(lengths) / static_cast<double>(lengths.size());
-    el.in_range_fraction = static_cast<double>(in_range) / static_cast<double>(lengths.size());
+    const double n = static_cast<double>(lengths.size());
+    el.in_range_fraction = static_cast<double>(in_range) / n;
+    el.short_fraction = static_cast<double>(too_short) / n;
+    el.long_fraction = static_cast<double>(lengths.size() - in_range - too_short) / n;
   }
   return el;
 }
@@ -510,7 +519,7 @@ Quality_report compute_quality_report(const Indexed_tet_mesh_3& mesh, const Metr
 /// `mean`, `below5`, `below10`, `below15`}, `mean_ratio` {`worst`, `worst_tet`,
 /// `p01`, `mean`}, `histogram_5deg` (18 counts),
 /// `histogram_bin_degrees`, `edge_length` {`min`, `max`, `mean`,
-/// `in_range_fraction`, `number_of_edges`}, `inverted_tets`,
+/// `in_range_fraction`, `short_fraction`, `long_fraction`, `number_of_edges`}, `inverted_tets`,
 /// `degenerate_tets`, `volume`, `metric_volume`. Numbers are written in the
 /// shortest form that reads back to the same double; a non-finite value is
 /// written as `null`.
@@ -538,6 +547,8 @@ inline std::string to_json(const Quality_report& r)
      << ", \"max\": " << format_json_number(r.edge_length.max)
      << ", \"mean\": " << format_json_number(r.edge_length.mean)
      << ", \"in_range_fraction\": " << format_json_number(r.edge_length.in_range_fraction)
+     << ", \"short_fraction\": " << format_json_number(r.edge_length.short_fraction)
+     << ", \"long_fraction\": " << format_json_number(r.edge_length.long_fraction)
      << ", \"number_of_edges\": " << r.edge_length.number_of_edges << "},\n";
   os << "  \"inverted_tets\": " << r.inverted_tets << ",\n";
   os << "  \"degenerate_tets\": " << r.degenerate_tets << ",\n";
@@ -566,7 +577,8 @@ inline void print_quality_summary(std::ostream& out, const Quality_report& r)
   os << "  mean ratio: worst " << fixed(r.mean_ratio.worst, 3) << " (tet " << r.mean_ratio.worst_tet << "), p01 "
      << fixed(r.mean_ratio.p01, 3) << ", mean " << fixed(r.mean_ratio.mean, 3) << "\n";
   os << "  metric edge length: min " << fixed(el.min, 3) << ", max " << fixed(el.max, 3) << ", mean "
-     << fixed(el.mean, 3) << ", in [0.707, 1.414]: " << fixed(100 * el.in_range_fraction, 1) << "%\n";
+     << fixed(el.mean, 3) << ", in [0.707, 1.414]: " << fixed(100 * el.in_range_fraction, 1) << "% (shorter "
+     << fixed(100 * el.short_fraction, 1) << "%, longer " << fixed(100 * el.long_fraction, 1) << "%)\n";
   os << "  inverted tets: " << r.inverted_tets << ", flat tets: " << r.degenerate_tets << ", volume "
      << std::setprecision(10) << r.volume << ", metric volume " << r.metric_volume << "\n";
   os << "  histogram of min dihedral angles:\n";

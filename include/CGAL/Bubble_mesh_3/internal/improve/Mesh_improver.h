@@ -75,6 +75,9 @@ struct Improver_settings {
   /// interior vertex moves keep the vertex's edges that are in [1/sqrt2,
   /// sqrt2] in that range, as boundary moves always do
   bool keep_edges_in_range = false;
+  /// before the flips and moves: split edges longer than sqrt2 and collapse
+  /// edges shorter than 1/sqrt2 in the metric (see `Mesh_improver::length_phase()`)
+  bool edge_lengths = false;
   unsigned random_seed = 0;
   /// polled with the clock; true stops the work like the time limit
   std::function<bool()> should_stop;
@@ -103,6 +106,11 @@ struct Improver_counters {
   std::size_t boundary_edge_collapses = 0;
   /// those of feature edges (counted in both above too)
   std::size_t feature_edge_collapses = 0;
+  /// the splits and collapses of `length_phase()` (counted in the above too)
+  std::size_t length_splits = 0;
+  std::size_t length_collapses = 0;
+  /// edge removals of long edges by `length_phase()` (counted in the flips too)
+  std::size_t length_flips = 0;
   int passes = 0;
   bool time_limit_reached = false;
 };
@@ -287,8 +295,9 @@ public:
   /// first, until no flip improves, then (2) one smoothing sweep over the
   /// free vertices of the bad tets, worst ball first. Stops when a pass
   /// changes nothing, after `maximum_passes`, or at the time limit.
-  /// With `edge_splits`, then rounds of edge splits of the tets still
-  /// below `split_below_angle`, each followed by passes again.
+  /// With `edge_lengths`, then `length_phase()` and passes again. With
+  /// `edge_splits`, then rounds of edge splits of the tets still below
+  /// `split_below_angle`, each followed by passes again.
   void run()
   {
     const int split_rounds = s_.edge_splits || s_.edge_collapses ? 3 : 0;
@@ -305,6 +314,10 @@ public:
         if(c_.time_limit_reached || changes == 0)
           break;
       }
+      // after the first passes, so that the length changes start from (and
+      // keep) the worst angle they reached
+      if(s_.edge_lengths && round == 0 && !c_.time_limit_reached && length_phase() > 0)
+        continue;
       if(round >= split_rounds || c_.time_limit_reached)
         break;
       std::size_t changes = s_.edge_collapses ? collapse_phase() : 0;
@@ -1160,6 +1173,20 @@ private:
     return d;
   }
 
+  /// What an edge collapse must achieve to be applied: where flips and
+  /// moves are stuck (the default), raise the worst tet around by a degree;
+  /// in `length_phase()`, lower the summed `length_excess()` of the edges at
+  /// the removed vertex and keep the worst tet around at least at the lower
+  /// of its old worst and `floor`.
+  struct Change_rule {
+    bool lengths = false;
+    double floor = 0;
+    bool accepts(double new_worst, double old_worst) const
+    {
+      return lengths ? new_worst >= std::min(old_worst, floor) : new_worst > old_worst + 1.0;
+    }
+  };
+
   // ---- edge splits ------------------------------------------------------------
 
   /// Local refinement where flips and moves are stuck (a cap in a thin part,
@@ -1183,7 +1210,9 @@ private:
   /// collapses (each removes a vertex).
   std::size_t collapse_phase()
   {
-    return for_stuck_tets(false, [this](int, int a, int b) { return collapse_edge(a, b) || collapse_edge(b, a); });
+    return for_stuck_tets(false, [this](int, int a, int b) {
+      return collapse_edge(a, b, Change_rule()) || collapse_edge(b, a, Change_rule());
+    });
   }
 
   /// The driver of both: the tets below `split_below_angle`, worst first,
@@ -1239,7 +1268,7 @@ private:
   /// same vertices, a closed curve keeps 3 edges), every new tet is
   /// positively oriented (exact), no boundary face turns by more than 20
   /// degrees, and the worst new tet is a degree above the worst of v's star.
-  bool collapse_edge(int v, int w)
+  bool collapse_edge(int v, int w, const Change_rule& rule)
   {
     const Vertex_constraint& constraint = m_.constraint[std::size_t(v)];
     const Vertex_constraint::Kind kind = constraint.kind;
@@ -1308,10 +1337,12 @@ private:
       if(exact_orientation(P(T[0]), P(T[1]), P(T[2]), P(T[3])) != CGAL::POSITIVE)
         return false;
       new_worst = std::min(new_worst, quality_of(T));
-      if(!(new_worst > old_worst + 1.0))
+      if(!rule.accepts(new_worst, old_worst))
         return false;
       new_tets.push_back(T);
     }
+    if(rule.lengths && !(collapse_excess(v, w) < 0))
+      return false;
     const double cos_turn = cos_of_largest_boundary_turn();
     for(std::size_t i = 0; i < faces.size(); ++i) {
       const auto& f = faces[i];
@@ -1358,6 +1389,8 @@ private:
       q_[std::size_t(s)] = tet_quality(s);
     }
     ++c_.edge_collapses;
+    if(rule.lengths)
+      ++c_.length_collapses;
     if(boundary)
       ++c_.boundary_edge_collapses;
     if(on_curve)
@@ -1488,6 +1521,10 @@ private:
     std::vector<Tet> templates;     // the new tets, -1 standing for the new vertex
     Eigen::Vector3d x;              // the new vertex, of worst quality `best`
     double best = -std::numeric_limits<double>::infinity();
+    /// a length split (`length_phase()`): the split edge's metric length;
+    /// positions where a new edge is at least as long or shorter than
+    /// 1/sqrt2 are refused
+    double length_limit = std::numeric_limits<double>::infinity();
   };
 
   /// the ring of (a, b) and the new tets; false if the edge cannot be split
@@ -1553,6 +1590,8 @@ private:
   /// boundary triangle turns too far); stops early at <= threshold
   double split_quality(const Edge_split& e, const Eigen::Vector3d& x, double threshold) const
   {
+    if(e.length_limit < std::numeric_limits<double>::infinity() && !split_lengths_ok(e, x))
+      return -1.0;
     if(e.boundary) {
       const double cos_turn = cos_of_largest_boundary_turn();
       const int ends[2] = {e.ring.front(), e.ring.back()};
@@ -1695,10 +1734,253 @@ private:
       q_[std::size_t(s)] = tet_quality(s);
     }
     ++c_.edge_splits;
+    if(e.length_limit < std::numeric_limits<double>::infinity())
+      ++c_.length_splits;
     if(e.boundary)
       ++c_.boundary_edge_splits;
     if(e.feature)
       ++c_.feature_edge_splits;
+  }
+
+  // ---- edge lengths -----------------------------------------------------------
+
+  /// how far the metric length `l` lies outside [1/sqrt2, sqrt2], on a log
+  /// scale (0 inside): a gap of twice the size weighs like a cluster at half
+  static double length_excess(double l)
+  {
+    const double out = std::abs(std::log(l)) - 0.5 * std::log(2.0);
+    return out > 0 ? out : 0;
+  }
+
+  /// the metric at vertex v, cached for one length phase (no vertex moves
+  /// during it; new vertices extend the cache)
+  const Metric_3& vertex_metric(int v) const
+  {
+    if(vertex_metric_.size() < m_.points.size()) {
+      vertex_metric_.resize(m_.points.size());
+      vertex_metric_known_.resize(m_.points.size(), 0);
+    }
+    if(!vertex_metric_known_[std::size_t(v)]) {
+      vertex_metric_[std::size_t(v)] = quality_.metric_at(P(v));
+      vertex_metric_known_[std::size_t(v)] = 1;
+    }
+    return vertex_metric_[std::size_t(v)];
+  }
+
+  /// metric length of the edge (u, v) with the cached vertex metrics (the
+  /// measure of `metric_edge_length()` and of the quality report)
+  double cached_edge_length(int u, int v) const
+  {
+    const Eigen::Vector3d d = P(v) - P(u);
+    return 0.5 * (vertex_metric(u).length(d) + vertex_metric(v).length(d));
+  }
+
+  /// whether every edge a split of `e` at x creates is shorter than the
+  /// split edge and not shorter than 1/sqrt2 (no cluster made for a gap)
+  bool split_lengths_ok(const Edge_split& e, const Eigen::Vector3d& x) const
+  {
+    const Metric_3 mx = quality_.metric_at(x);
+    auto ok = [&](int u) {
+      const Eigen::Vector3d d = P(u) - x;
+      const double l = 0.5 * (mx.length(d) + vertex_metric(u).length(d));
+      return l >= std::sqrt(0.5) && l < e.length_limit;
+    };
+    if(!ok(e.a) || !ok(e.b))
+      return false;
+    for(int u : e.ring)
+      if(!ok(u))
+        return false;
+    return true;
+  }
+
+  /// the neighbours of v (through its tets), sorted
+  std::vector<int> neighbours(int v) const
+  {
+    std::vector<int> n;
+    for(int s : m_.vertex_tets[std::size_t(v)])
+      for(int x : m_.tets[std::size_t(s)])
+        if(x != v)
+          n.push_back(x);
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    return n;
+  }
+
+  /// the summed excess of the edges at v that a collapse of v onto w
+  /// removes, minus that of the edges it creates: positive if it helps
+  double collapse_excess(int v, int w) const
+  {
+    const std::vector<int> nv = neighbours(v), nw = neighbours(w);
+    double old_sum = 0, new_sum = 0;
+    for(int u : nv) {
+      old_sum += length_excess(cached_edge_length(v, u));
+      if(u != w && !std::binary_search(nw.begin(), nw.end(), u))
+        new_sum += length_excess(cached_edge_length(w, u));
+    }
+    return new_sum - old_sum;
+  }
+
+  /// an active tet of the edge (a, b), -1 if the edge is gone
+  int tet_of_edge(int a, int b) const
+  {
+    for(int s : m_.vertex_tets[std::size_t(a)])
+      if(m_.alive[std::size_t(s)] && !m_.is_passive(s) && Mutable_tet_mesh::has_vertex(m_.tets[std::size_t(s)], b))
+        return s;
+    return -1;
+  }
+
+  /// whether a length change whose new tets' worst is `new_worst` where the
+  /// old worst was `old_worst` may be applied
+  bool length_change_ok(double new_worst, double old_worst) const
+  {
+    return new_worst >= std::min(old_worst, length_floor_);
+  }
+
+  /// Removes the interior edge (a, b) of metric length `length` by an edge
+  /// removal (its n tets become the 2n-4 joining a and b to the best
+  /// triangulation of its ring) when no new edge (a chord of the ring) is as
+  /// long and the new tets' worst is at least the lower of the old worst and
+  /// `floor`: a long edge that cuts through a layer of nodes (one lies near
+  /// its middle, so a split would make a cluster) is a wrong connection,
+  /// not a gap. Counted as a length flip.
+  bool remove_long_edge(int t, int a, int b, double length)
+  {
+    if(m_.is_protected_edge(a, b) || !m_.edge_ring(a, b, s_.maximum_ring_size, ring_, ring_tets_))
+      return false;
+    const int ref = m_.refs[std::size_t(t)];
+    double old_worst = std::numeric_limits<double>::infinity();
+    for(int s : ring_tets_) {
+      if(m_.refs[std::size_t(s)] != ref || m_.is_passive(s))
+        return false;
+      old_worst = std::min(old_worst, q_[std::size_t(s)]);
+    }
+    double result = 0;
+    int top = -1;
+    if(!best_ring_triangulation(a, b, std::min(old_worst, length_floor_) - 1e-12, result, scratch_tets_, top) ||
+       !length_change_ok(result, old_worst))
+      return false;
+    for(const Tet& T : scratch_tets_)
+      for(int i = 0; i < 4; ++i)
+        for(int j = i + 1; j < 4; ++j) {
+          const int x = T[std::size_t(i)], y = T[std::size_t(j)];
+          if(x == a || x == b || y == a || y == b)
+            continue; // an edge of the old tets
+          if(!(cached_edge_length(x, y) < length))
+            return false;
+        }
+    Flip f;
+    f.new_worst = result;
+    f.old_worst = old_worst;
+    f.is_edge_removal = true;
+    f.ring_size = ring_.size();
+    f.old_tets = ring_tets_;
+    f.new_tets = scratch_tets_;
+    f.ref = ref;
+    apply(f);
+    ++c_.length_flips;
+    return true;
+  }
+
+  /// the worst tet a length change may leave around it, if the worst there
+  /// was better and the mesh's worst is lower (else that worst is the
+  /// floor): low enough that most long edges can go (at 15 degrees the
+  /// splits stopped at a fifth of them on the elephant with a 1:10 layer;
+  /// 25 degrees gave fewer edges in range and no better angles)
+  static constexpr double length_quality_floor = 20;
+
+  /// The packing's errors that flips and moves cannot fix: where the metric
+  /// changes fast (a 1:10 boundary layer on a curved wall) its edges are far
+  /// outside [1/sqrt2, sqrt2], mostly too long (elephant, 1:10 layer: 18.5 %
+  /// of the edges longer, 0.4 % shorter). Run after the first passes of
+  /// flips and moves. Up to 4 rounds over the edges, each change keeping the
+  /// worst tet around at least at the lower of its old worst and the higher
+  /// of `length_quality_floor` and the mesh's worst (so the phase never
+  /// lowers the mesh's worst):
+  /// (1) the edges longer than sqrt2, longest first: removed by an edge
+  /// removal if no chord it creates is as long (an edge cutting through a
+  /// layer of nodes: a wrong connection, `remove_long_edge()`), else split
+  /// near the midpoint where every new edge is shorter than it and not
+  /// shorter than 1/sqrt2 (a gap; the split places its vertex like the
+  /// other splits, boundary and feature edges on the input);
+  /// (2) the edges shorter than 1/sqrt2, shortest first: collapsed onto
+  /// either end where that lowers the summed `length_excess()` of the
+  /// edges at the removed vertex (a cluster).
+  /// Returns the number of changes.
+  std::size_t length_phase()
+  {
+    // never below the worst the passes reached: the phase cannot lower the mesh's worst
+    double worst = std::numeric_limits<double>::infinity();
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && !m_.is_passive(int(t)))
+        worst = std::min(worst, q_[t]);
+    length_floor_ = std::max(length_quality_floor, worst);
+    vertex_metric_.clear();
+    vertex_metric_known_.clear();
+    std::size_t changes = 0;
+    for(int round = 0; round < 4 && !out_of_time(); ++round) {
+      std::vector<std::pair<double, std::pair<int, int>>> long_edges, short_edges;
+      std::vector<std::pair<int, int>> edges;
+      for(std::size_t t = 0; t < m_.tets.size(); ++t) {
+        if(!m_.alive[t] || m_.is_passive(int(t)))
+          continue;
+        const Tet& T = m_.tets[t];
+        for(int i = 0; i < 4; ++i)
+          for(int j = i + 1; j < 4; ++j)
+            edges.push_back(std::minmax(T[std::size_t(i)], T[std::size_t(j)]));
+      }
+      std::sort(edges.begin(), edges.end());
+      edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+      for(const auto& e : edges) {
+        const double l = cached_edge_length(e.first, e.second);
+        if(l > std::sqrt(2.0))
+          long_edges.push_back({-l, e});
+        else if(l < std::sqrt(0.5))
+          short_edges.push_back({l, e});
+      }
+      std::sort(long_edges.begin(), long_edges.end());
+      std::sort(short_edges.begin(), short_edges.end());
+      std::size_t round_changes = 0;
+      for(const auto& entry : long_edges) {
+        const int a = entry.second.first, b = entry.second.second;
+        const int t = tet_of_edge(a, b);
+        if(t < 0)
+          continue;
+        Edge_split e;
+        e.length_limit = -entry.first;
+        if(remove_long_edge(t, a, b, e.length_limit)) {
+          ++round_changes;
+          continue;
+        }
+        if(!prepare_split(t, a, b, e) || !place_split_vertex(e))
+          continue;
+        if(!split_lengths_ok(e, e.x) || !length_change_ok(e.best, e.old_worst))
+          continue;
+        if(e.boundary && !boundary_stays_embedded({{{a, -1, e.ring.front()}}, {{-1, b, e.ring.front()}},
+                                                   {{a, -1, e.ring.back()}}, {{-1, b, e.ring.back()}}},
+                                                  {{{a, b, e.ring.front()}}, {{a, b, e.ring.back()}}}, -1, e.x))
+          continue;
+        apply_split(e);
+        ++round_changes;
+        if(out_of_time())
+          break;
+      }
+      Change_rule rule;
+      rule.lengths = true;
+      rule.floor = length_floor_;
+      for(const auto& entry : short_edges) {
+        if(out_of_time())
+          break;
+        const int a = entry.second.first, b = entry.second.second;
+        if(m_.removed[std::size_t(a)] || m_.removed[std::size_t(b)] || tet_of_edge(a, b) < 0)
+          continue;
+        if(collapse_edge(a, b, rule) || collapse_edge(b, a, rule))
+          ++round_changes;
+      }
+      changes += round_changes;
+      if(round_changes == 0)
+        break;
+    }
+    return changes;
   }
 
   // ---- phases ----------------------------------------------------------------
@@ -1835,6 +2117,12 @@ private:
   // change nearby (vertex_changed_ of one of its vertices is later)
   long clock_ = 1;
   std::vector<long> tet_tried_, vertex_tried_, vertex_changed_;
+  // the vertex metrics of one length phase (`vertex_metric()`)
+  mutable std::vector<Metric_3> vertex_metric_;
+  mutable std::vector<char> vertex_metric_known_;
+  /// a length change keeps the worst tet around at least at the lower of
+  /// its old worst and this (`length_phase()`)
+  double length_floor_ = 0;
   // scratch of the edge removal
   std::vector<int> ring_, ring_tets_, choice_;
   std::vector<Tet> scratch_tets_;

@@ -54,6 +54,8 @@ void improvement_stage(const MetricField& field, const Domain_boundary& boundary
   io.edge_splits = true;
   io.edge_collapses = true;
   io.keep_edges_in_range = true;
+  // the packing's gaps and clusters where the metric grades fast
+  io.edge_lengths = true;
   // Boundary moves, curved flips, splits and collapses each keep the boundary
   // embedded, but should a thin part (a tip thinner than the sizes) still
   // fold, the improvement is done again on the front's mesh with the
