@@ -503,14 +503,21 @@ private:
     int top = -1;
     if(!best_ring_triangulation(a, b, bar, result, scratch_tets_, top))
       return;
-    best.new_worst = result;
-    best.old_worst = old_worst;
-    best.is_edge_removal = true;
-    best.boundary = false;
-    best.ring_size = ring_.size();
-    best.old_tets = ring_tets_;
-    best.new_tets = scratch_tets_;
-    best.ref = ref;
+    take_edge_removal(best, result, old_worst, ref);
+  }
+
+  /// `f` as the edge removal that `best_ring_triangulation()` left in
+  /// `scratch_tets_` for the ring in `ring_` / `ring_tets_`
+  void take_edge_removal(Flip& f, double new_worst, double old_worst, int ref) const
+  {
+    f.new_worst = new_worst;
+    f.old_worst = old_worst;
+    f.is_edge_removal = true;
+    f.boundary = false;
+    f.ring_size = ring_.size();
+    f.old_tets = ring_tets_;
+    f.new_tets = scratch_tets_;
+    f.ref = ref;
   }
 
   /// Boundary flip (2-2, 4-4, ...: the boundary analogue of edge removal):
@@ -1869,13 +1876,7 @@ private:
             return false;
         }
     Flip f;
-    f.new_worst = result;
-    f.old_worst = old_worst;
-    f.is_edge_removal = true;
-    f.ring_size = ring_.size();
-    f.old_tets = ring_tets_;
-    f.new_tets = scratch_tets_;
-    f.ref = ref;
+    take_edge_removal(f, result, old_worst, ref);
     apply(f);
     ++c_.length_flips;
     return true;
