@@ -41,6 +41,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -175,6 +176,92 @@ TEST(ImproveC3t3, Mesh3BoxWithFeatures)
   Out_c3t3 again;
   const BM::Improvement_report r2 = improve_and_check(out, again, field, "Mesh_3 box, second round");
   EXPECT_GE(r2.worst_after, r.worst_after);
+}
+
+TEST(ImproveC3t3, SplitsAndCollapsesWithNamedParameters)
+{
+  // Mesh_3's isotropic box in a 1:4 metric, improved with vertex insertion
+  // and removal: the vertices change, and the result must still be a checked
+  // complex whose new vertices carry the index of what they lie in
+  typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
+  typedef CGAL::Mesh_triangulation_3<Domain>::type Tr;
+  typedef CGAL::Mesh_complex_3_in_triangulation_3<Tr, Domain::Corner_index, Domain::Curve_index> C3t3;
+  typedef CGAL::Mesh_criteria_3<Tr> Criteria;
+  typedef CGAL::Anisotropic_mesh_triangulation_3<Domain>::type Out_tr;
+  typedef CGAL::Mesh_complex_3_in_triangulation_3<Out_tr, Domain::Corner_index, Domain::Curve_index> Out_c3t3;
+  typedef Out_c3t3::Vertex_handle Vertex_handle;
+  std::istringstream off("OFF\n8 12 0\n0 0 0\n1 0 0\n1 0.8 0\n0 0.8 0\n0 0 0.6\n1 0 0.6\n1 0.8 0.6\n0 0.8 0.6\n"
+                         "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
+                         "3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n");
+  Domain::Polyhedron polyhedron;
+  off >> polyhedron;
+  Domain domain(polyhedron);
+  domain.detect_features(60);
+  namespace P = CGAL::parameters;
+  Criteria criteria(P::edge_size = 0.12, P::facet_angle = 25, P::facet_size = 0.12, P::facet_distance = 0.01,
+                    P::cell_radius_edge_ratio = 3, P::cell_size = 0.12);
+  const C3t3 in = CGAL::make_mesh_3<C3t3>(domain, criteria, P::no_perturb(), P::no_exude());
+  const BM::Metric_3 metric =
+      BM::Metric_3::from_directions_and_sizes(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.06, 0.12, 0.24));
+  CGAL::Constant_metric_field_3<K> field(metric);
+  const BM::Indexed_tet_mesh_3 before = domain_part(BM::internal::c3t3_to_indexed_mesh(in).mesh);
+  Out_c3t3 out;
+  const BM::Improvement_report r = BM::improve_anisotropic_mesh_3(
+      in, out, field,
+      BM::parameters::edge_splits(true).edge_collapses(true).edge_lengths(true).improvement_time_limit(
+          std::numeric_limits<double>::infinity()));
+  ASSERT_GT(r.edge_splits, 0u) << "the 1:4 metric asks for vertices";
+  EXPECT_GT(r.edge_collapses, 0u) << "and for fewer along the long axis";
+  EXPECT_TRUE(out.triangulation().is_valid());
+  EXPECT_EQ(out.triangulation().number_of_vertices(),
+            in.triangulation().number_of_vertices() + r.edge_splits - r.edge_collapses);
+  EXPECT_EQ(out.number_of_corners(), 8u);
+  const auto patches_out = patches_of(out), patches_in = patches_of(in);
+  EXPECT_TRUE(std::set<Domain::Surface_patch_index>(patches_out.begin(), patches_out.end()) ==
+              std::set<Domain::Surface_patch_index>(patches_in.begin(), patches_in.end()));
+  // every vertex: the dimension and index of the lowest element of the
+  // complex it is on (a corner, a curve, a patch, else its subdomain)
+  std::map<Vertex_handle, Out_c3t3::Index> lowest;
+  std::map<Vertex_handle, int> dimension;
+  auto offer = [&](Vertex_handle v, int d, const Out_c3t3::Index& index) {
+    if(!dimension.count(v) || d < dimension[v]) {
+      dimension[v] = d;
+      lowest[v] = index;
+    }
+  };
+  for(auto c = out.cells_in_complex_begin(); c != out.cells_in_complex_end(); ++c)
+    for(int k = 0; k < 4; ++k)
+      offer(c->vertex(k), 3, domain.index_from_subdomain_index(out.subdomain_index(c)));
+  for(auto f = out.facets_in_complex_begin(); f != out.facets_in_complex_end(); ++f)
+    for(int k = 1; k < 4; ++k)
+      offer(f->first->vertex((f->second + k) % 4), 2, domain.index_from_surface_patch_index(out.surface_patch_index(*f)));
+  for(auto e = out.edges_in_complex_begin(); e != out.edges_in_complex_end(); ++e)
+    for(int k : {e->second, e->third})
+      offer(e->first->vertex(k), 1, domain.index_from_curve_index(out.curve_index(*e)));
+  for(auto v = out.vertices_in_complex_begin(); v != out.vertices_in_complex_end(); ++v)
+    offer(v, 0, domain.index_from_corner_index(out.corner_index(v)));
+  std::size_t mismatched = 0;
+  for(const auto& kv : dimension)
+    if(kv.first->in_dimension() != kv.second || !(kv.first->index() == lowest[kv.first]))
+      ++mismatched;
+  EXPECT_EQ(mismatched, 0u);
+  // the domain's part: valid, same volume, no worse
+  const BM::Indexed_tet_mesh_3 after = domain_part(BM::internal::c3t3_to_indexed_mesh(out).mesh);
+  BM::Validity_options vo;
+  vo.allow_unused_vertices = true;
+  const BM::Validity_report valid = BM::check_validity(after, vo);
+  EXPECT_TRUE(valid.is_valid()) << (valid.problems.empty() ? "" : valid.problems[0]);
+  double absolute = 0, unused = 0;
+  const std::map<int, double> v_before = volumes(before, absolute), v_after = volumes(after, unused);
+  for(const auto& kv : v_before)
+    EXPECT_NEAR(v_after.at(kv.first), kv.second, 1e-12 * absolute);
+  EXPECT_GE(BM::compute_quality_report(after, field).min_dihedral.worst,
+            BM::compute_quality_report(before, field).min_dihedral.worst);
+  EXPECT_GT(r.edges_in_range_after, r.edges_in_range_before);
+  std::printf("[1:4 box with splits and collapses] %zu splits, %zu collapses, edges in range %.1f -> %.1f %%, "
+              "worst %.2f -> %.2f\n",
+              r.edge_splits, r.edge_collapses, 100 * r.edges_in_range_before, 100 * r.edges_in_range_after,
+              r.worst_before, r.worst_after);
 }
 
 TEST(ImproveC3t3, Mesh3ImplicitSphereAnisotropic)

@@ -147,6 +147,45 @@ C3t3_as_indexed_mesh<C3T3> c3t3_to_indexed_mesh(const C3T3& c3t3)
 
 } // namespace internal
 
+namespace internal {
+
+/// The complex's indices of an improved `C3t3_as_indexed_mesh`: refs are
+/// 1-based positions in its tables; a vertex of the input keeps its
+/// dimension and index, a vertex the improvement added (an edge split) gets
+/// the index of the curve, patch or subdomain it lies in.
+template <typename C3T3_in, typename C3T3_out>
+struct Table_indices {
+  typedef typename C3T3_out::Triangulation::Vertex_handle Vertex_handle;
+  typedef typename C3T3_out::Triangulation::Vertex::Index Index;
+  const C3t3_as_indexed_mesh<C3T3_in>& tables;
+  /// the input vertex of each vertex of the improved mesh, -1 for a new one
+  std::vector<int> origin;
+
+  typename C3T3_out::Surface_patch_index patch(int ref) const { return tables.patches[std::size_t(ref - 1)]; }
+  typename C3T3_out::Curve_index curve(int ref) const { return tables.curves[std::size_t(ref - 1)]; }
+  typename C3T3_out::Corner_index corner(int ref) const { return tables.corner_indices[std::size_t(ref - 1)]; }
+  void set_vertex(Vertex_handle v, std::size_t i, const C3t3_vertex_location& l) const
+  {
+    if(origin[i] >= 0) {
+      const auto& input = tables.vertices[std::size_t(origin[i])];
+      v->set_dimension(input->in_dimension());
+      v->set_index(input->index());
+      return;
+    }
+    switch(l.dimension) {
+    case 1: v->set_index(Index(curve(l.index))); break;
+    case 2: v->set_index(Index(patch(l.index))); break;
+    case 3: v->set_index(Index(typename C3T3_out::Subdomain_index(l.index))); break;
+    default:
+      throw Meshing_failure("improve_anisotropic_mesh_3: the improvement added a vertex of dimension " +
+                            std::to_string(l.dimension));
+    }
+    v->set_dimension(l.dimension);
+  }
+};
+
+} // namespace internal
+
 /// \ingroup PkgBubbleMesh3Functions
 /// Improves the cells of the complex `in` in the metric `field` (a model of
 /// `MetricField_3`) by the flips and smoothing of `improve_mesh()` and
@@ -162,60 +201,50 @@ C3t3_as_indexed_mesh<C3T3> c3t3_to_indexed_mesh(const C3T3& c3t3)
 ///   triangulation: the result is not Delaunay), with the same vertex index,
 ///   subdomain, surface patch, curve and corner index types as `C3T3_in`
 ///
-/// `options.ref_0_is_exterior` is forced on. Returns what was done; the
-/// qualities of the report are those of the complex's cells only. Throws
-/// `Invalid_input` if `in` is not a 3D triangulation with positively
-/// oriented cells; exceptions of `field` propagate.
+/// `options.ref_0_is_exterior` is forced on. With `edge_splits` (and
+/// `edge_lengths`) the improvement may add vertices: inside a subdomain, and
+/// on patches and curves only with a `surface_projection` /
+/// `curve_projection`; they get the index of what they lie in. With
+/// `edge_collapses` it may remove vertices. The result goes through the
+/// same checked conversion as `make_anisotropic_mesh_3()`'s. Returns what was
+/// done; the qualities of the report are those of the complex's cells only.
+/// Throws `Invalid_input` if `in` is not a 3D triangulation with positively
+/// oriented cells, `Meshing_failure` if the improved cells do not make a
+/// valid complex (a bug: please report it); exceptions of `field` propagate.
 template <typename C3T3_in, typename C3T3_out, typename MetricField_3>
 Improvement_report improve_anisotropic_mesh_3(const C3T3_in& in, C3T3_out& out, const MetricField_3& field,
                                               Improvement_options options = {})
 {
-  typedef typename C3T3_out::Triangulation Tr;
-  typedef typename Tr::Vertex_handle Vertex_handle;
-  typedef typename Tr::Cell::Surface_patch_index Surface_patch_index;
-  typedef CGAL::Exact_predicates_inexact_constructions_kernel::Point_3 Bare_point;
-
   internal::C3t3_as_indexed_mesh<C3T3_in> copy = internal::c3t3_to_indexed_mesh(in);
   Indexed_tet_mesh_3& m = copy.mesh;
+  std::vector<internal::C3t3_vertex_location> locations = internal::vertex_locations(m);
   options.ref_0_is_exterior = true;
   const Improvement_report report = improve_mesh(m, field, options);
-
+  internal::Table_indices<C3T3_in, C3T3_out> indices{copy, std::vector<int>(m.points.size(), -1)};
+  for(std::size_t v = 0; v < copy.vertices.size(); ++v) {
+    const int w = report.new_vertex_index.empty() ? int(v) : report.new_vertex_index[v];
+    if(w >= 0)
+      indices.origin[std::size_t(w)] = int(v);
+  }
+  internal::relocate_after_improvement(m, report.new_vertex_index, locations);
   out.clear();
-  std::vector<std::array<int, 5>> cells;
-  cells.reserve(m.tets.size());
-  for(std::size_t t = 0; t < m.tets.size(); ++t) {
-    const std::array<int, 4>& q = m.tets[t];
-    cells.push_back({{q[0], q[1], q[2], q[3], m.tet_refs[t]}});
+  try {
+    internal::indexed_mesh_to_c3t3(m, locations, indices, out);
+  } catch(const Invalid_input& e) {
+    out.clear();
+    throw Meshing_failure(std::string("improve_anisotropic_mesh_3: the improved cells: ") + e.what());
   }
-  std::map<std::array<int, 3>, Surface_patch_index> border;
-  for(std::size_t f = 0; f < m.triangles.size(); ++f) {
-    std::array<int, 3> key = m.triangles[f];
-    std::sort(key.begin(), key.end());
-    border[key] = copy.patches[std::size_t(m.triangle_refs[f] - 1)];
-  }
-  std::vector<typename Tr::Point> points;
-  points.reserve(m.points.size());
-  for(const auto& p : m.points)
-    points.push_back(typename Tr::Point(Bare_point(p[0], p[1], p[2])));
-  std::vector<Vertex_handle> vh;
-  if(!internal::build_triangulation_adapter(out.triangulation(), points, cells, border, vh))
-    throw Invalid_input("improve_anisotropic_mesh_3: the improved cells do not form a valid triangulation");
-  for(std::size_t i = 0; i < m.points.size(); ++i) {
-    vh[i + 1]->set_dimension(copy.vertices[i]->in_dimension());
-    vh[i + 1]->set_index(copy.vertices[i]->index());
-  }
-  out.rescan_after_load_of_triangulation();
-  // the rescan makes every dimension-0 vertex a corner of index 1: give
-  // the corners their own indices back
-  for(std::size_t k = 0; k < m.corners.size(); ++k) {
-    const Vertex_handle v = vh[std::size_t(m.corners[k]) + 1];
-    out.remove_from_complex(v);
-    out.add_to_complex(v, copy.corner_indices[k]);
-  }
-  for(std::size_t e = 0; e < m.edges.size(); ++e)
-    out.add_to_complex(vh[std::size_t(m.edges[e][0]) + 1], vh[std::size_t(m.edges[e][1]) + 1],
-                       copy.curves[std::size_t(m.edge_refs[e] - 1)]);
   return report;
+}
+
+/// \ingroup PkgBubbleMesh3Functions
+/// Same, with named parameters (`improvement_options()` lists them), e.g.
+/// `CGAL::Bubble_mesh_3::parameters::number_of_iterations(20).edge_splits(true)`.
+template <typename C3T3_in, typename C3T3_out, typename MetricField_3, typename NamedParameters>
+Improvement_report improve_anisotropic_mesh_3(const C3T3_in& in, C3T3_out& out, const MetricField_3& field,
+                                              const NamedParameters& np)
+{
+  return improve_anisotropic_mesh_3(in, out, field, improvement_options(np));
 }
 
 } // namespace Bubble_mesh_3

@@ -8,6 +8,7 @@
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/Quality_report.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Bubble_mesh_3/internal/improve/Mesh_improver.h>
 #include <CGAL/Bubble_mesh_3/internal/improve/Mutable_tet_mesh.h>
 
@@ -468,6 +469,56 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   report.time_limit_reached = c.time_limit_reached;
   report.seconds = improver.elapsed_seconds();
   return report;
+}
+
+/// \ingroup PkgBubbleMesh3Ref
+/// The `Improvement_options` set by named parameters (the ones not given keep
+/// their defaults): `number_of_iterations` (`maximum_passes`),
+/// `improvement_time_limit` (`time_limit_seconds`), `should_stop`,
+/// `random_seed`, and the options of the same name: `target_angle`, `flips`,
+/// `smoothing`, `boundary_smoothing`, `boundary_flips`,
+/// `curved_boundary_flips`, `sliver_moves`, `edge_splits`,
+/// `split_below_angle`, `edge_collapses`, `keep_edges_in_range`,
+/// `edge_lengths`, `maximum_ring_size`, `smoothing_iterations`,
+/// `surface_projection`, `curve_projection`.
+template <typename NamedParameters>
+Improvement_options improvement_options(const NamedParameters& np)
+{
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  namespace BNP = Bubble_mesh_3::internal_np;
+  Improvement_options o;
+  o.maximum_passes = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), o.maximum_passes);
+  o.time_limit_seconds = choose_parameter(get_parameter(np, BNP::improvement_time_limit), o.time_limit_seconds);
+  o.should_stop = choose_parameter(get_parameter(np, BNP::should_stop), o.should_stop);
+  o.random_seed = choose_parameter(get_parameter(np, CGAL::internal_np::random_seed), o.random_seed);
+  o.target_angle = choose_parameter(get_parameter(np, BNP::target_angle), o.target_angle);
+  o.flips = choose_parameter(get_parameter(np, BNP::flips), o.flips);
+  o.smoothing = choose_parameter(get_parameter(np, BNP::smoothing), o.smoothing);
+  o.boundary_smoothing = choose_parameter(get_parameter(np, BNP::boundary_smoothing), o.boundary_smoothing);
+  o.boundary_flips = choose_parameter(get_parameter(np, BNP::boundary_flips), o.boundary_flips);
+  o.curved_boundary_flips = choose_parameter(get_parameter(np, BNP::curved_boundary_flips), o.curved_boundary_flips);
+  o.sliver_moves = choose_parameter(get_parameter(np, BNP::sliver_moves), o.sliver_moves);
+  o.edge_splits = choose_parameter(get_parameter(np, BNP::edge_splits), o.edge_splits);
+  o.split_below_angle = choose_parameter(get_parameter(np, BNP::split_below_angle), o.split_below_angle);
+  o.edge_collapses = choose_parameter(get_parameter(np, BNP::edge_collapses), o.edge_collapses);
+  o.keep_edges_in_range = choose_parameter(get_parameter(np, BNP::keep_edges_in_range), o.keep_edges_in_range);
+  o.edge_lengths = choose_parameter(get_parameter(np, BNP::edge_lengths), o.edge_lengths);
+  o.maximum_ring_size = choose_parameter(get_parameter(np, BNP::maximum_ring_size), o.maximum_ring_size);
+  o.smoothing_iterations = choose_parameter(get_parameter(np, BNP::smoothing_iterations), o.smoothing_iterations);
+  o.surface_projection = choose_parameter(get_parameter(np, BNP::surface_projection), o.surface_projection);
+  o.curve_projection = choose_parameter(get_parameter(np, BNP::curve_projection), o.curve_projection);
+  return o;
+}
+
+/// \ingroup PkgBubbleMesh3Functions
+/// `improve_mesh()` with named parameters (`improvement_options()` lists
+/// them), CGAL's way:
+/// `improve_mesh(mesh, field, CGAL::Bubble_mesh_3::parameters::edge_splits(true).random_seed(3))`.
+template <typename MetricField_3, typename NamedParameters>
+Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& field, const NamedParameters& np)
+{
+  return improve_mesh(mesh, field, improvement_options(np));
 }
 
 } // namespace Bubble_mesh_3

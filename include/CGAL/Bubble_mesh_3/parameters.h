@@ -42,6 +42,23 @@ enum feature_angle_t { feature_angle };
 enum minimum_feature_length_t { minimum_feature_length };
 enum small_feature_refinement_t { small_feature_refinement };
 enum progress_messages_t { progress_messages };
+// the improver's (improve_mesh(), improve_anisotropic_mesh_3())
+enum target_angle_t { target_angle };
+enum flips_t { flips };
+enum smoothing_t { smoothing };
+enum boundary_smoothing_t { boundary_smoothing };
+enum boundary_flips_t { boundary_flips };
+enum curved_boundary_flips_t { curved_boundary_flips };
+enum sliver_moves_t { sliver_moves };
+enum edge_splits_t { edge_splits };
+enum split_below_angle_t { split_below_angle };
+enum edge_collapses_t { edge_collapses };
+enum keep_edges_in_range_t { keep_edges_in_range };
+enum edge_lengths_t { edge_lengths };
+enum maximum_ring_size_t { maximum_ring_size };
+enum smoothing_iterations_t { smoothing_iterations };
+enum surface_projection_t { surface_projection };
+enum curve_projection_t { curve_projection };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -72,6 +89,22 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, minimum_feature_length)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, small_feature_refinement)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, progress_messages)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, target_angle)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, flips)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, smoothing)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, boundary_smoothing)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, boundary_flips)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, curved_boundary_flips)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, sliver_moves)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, edge_splits)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, split_below_angle)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, edge_collapses)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, keep_edges_in_range)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, edge_lengths)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, maximum_ring_size)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, smoothing_iterations)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, surface_projection)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, curve_projection)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -113,6 +146,38 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, minimum_feature_length)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, small_feature_refinement)
 /// a `std::function<void(const std::string&)>` receiving a line per stage (nodes, tets, seconds)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, progress_messages)
+/// `improve_mesh()`: tets whose metric minimum dihedral angle (degrees) is below this are worked on (default 40)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, target_angle)
+/// `improve_mesh()`: 2-3 flips and edge removals (default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, flips)
+/// `improve_mesh()`: vertex moves (default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, smoothing)
+/// `improve_mesh()`: boundary vertices move too, where that cannot change the domain, or on the projections (default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, boundary_smoothing)
+/// `improve_mesh()`: flips of boundary edges inside planar regions of one patch (default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, boundary_flips)
+/// `improve_mesh()`: with a `surface_projection`, also boundary flips and cap removals on curved patches (default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, curved_boundary_flips)
+/// `improve_mesh()`: push a sliver's vertex that smoothing could not move off its opposite face (default true)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, sliver_moves)
+/// `improve_mesh()`: split an edge of the tets still bad when flips and moves are stuck (adds vertices; default false)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, edge_splits)
+/// `improve_mesh()`: the angle (degrees) below which splits and collapses are tried (default 15)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, split_below_angle)
+/// `improve_mesh()`: collapse a short edge of those tets (removes vertices; default false)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, edge_collapses)
+/// `improve_mesh()`: interior moves keep the vertex's edges that are in [1/sqrt(2), sqrt(2)] in the metric in that range (default false)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, keep_edges_in_range)
+/// `improve_mesh()`: rounds of removals, splits and collapses of the edges outside [1/sqrt(2), sqrt(2)] in the metric (default false)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, edge_lengths)
+/// `improve_mesh()`: largest number of tets around an edge that edge removal considers (default 10)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, maximum_ring_size)
+/// `improve_mesh()`: steepest-ascent steps per vertex move (default 8)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, smoothing_iterations)
+/// `improve_mesh()`: a `std::function<bool(int, const std::array<double, 3>&, std::array<double, 3>&)>` giving the point of patch `ref` closest to a point: vertices of curved patches slide on it (default none)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, surface_projection)
+/// `improve_mesh()`: the same for the feature curves (edge refs): vertices of curved curves slide on it (default none)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, curve_projection)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
 /// CGAL's meaning: a `std::function<bool(double)>` called at every check point with the advancement of the

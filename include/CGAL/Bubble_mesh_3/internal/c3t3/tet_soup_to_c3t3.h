@@ -17,6 +17,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 // Turns an indexed tet mesh that covers a convex region (the domain padded out
@@ -74,6 +75,37 @@ inline std::vector<C3t3_vertex_location> vertex_locations(const Indexed_tet_mesh
   for (C3t3_vertex_location& l : loc)
     if (l.dimension == 4) l = C3t3_vertex_location{3, 0}; // used by no element
   return loc;
+}
+
+/// The C3T3 locations after the improvement: a kept vertex keeps its own
+/// (`new_vertex_index`: empty if none was removed), a split vertex gets its
+/// curve if on a feature edge, its patch if in a boundary triangle, else
+/// its subdomain (`point_refs`: the index).
+inline void relocate_after_improvement(const Indexed_tet_mesh_3& m, const std::vector<int>& new_vertex_index,
+                                       std::vector<C3t3_vertex_location>& locations)
+{
+  std::vector<C3t3_vertex_location> moved(m.points.size(), C3t3_vertex_location{3, 0});
+  std::vector<char> known(m.points.size(), 0);
+  for(std::size_t v = 0; v < locations.size(); ++v) {
+    const int w = new_vertex_index.empty() ? int(v) : new_vertex_index[v];
+    if(w >= 0) {
+      moved[std::size_t(w)] = locations[v];
+      known[std::size_t(w)] = 1;
+    }
+  }
+  if(std::find(known.begin(), known.end(), char(0)) != known.end()) {
+    std::vector<int> dimension(m.points.size(), 3);
+    for(const auto& f : m.triangles)
+      for(int v : f)
+        dimension[std::size_t(v)] = 2;
+    for(const auto& e : m.edges)
+      for(int v : e)
+        dimension[std::size_t(v)] = 1;
+    for(std::size_t v = 0; v < m.points.size(); ++v)
+      if(!known[v])
+        moved[v] = C3t3_vertex_location{dimension[v], m.point_refs[v]};
+  }
+  locations = std::move(moved);
 }
 
 /// Throws `Invalid_input` unless the tets, closed by one infinite vertex
@@ -135,16 +167,44 @@ bool build_triangulation_adapter(Tr& tr, const std::vector<typename Tr::Point>& 
   return CGAL::build_triangulation<Tr, false>(tr, points, cells, border, handles, false);
 }
 
-/// Fills `c3t3` (which must be empty) from `mesh`.
+/// The complex's indices of a mesh whose refs are the domain's own ids (the
+/// pipeline's meshes): patch, curve and corner ids are the index values, and
+/// a vertex's index comes from `domain.index_from_*()`.
+template <class C3T3, class MeshDomain>
+struct Domain_indices {
+  typedef typename C3T3::Triangulation::Vertex_handle Vertex_handle;
+  const MeshDomain& domain;
+
+  typename C3T3::Surface_patch_index patch(int ref) const { return typename C3T3::Surface_patch_index(ref); }
+  typename C3T3::Curve_index curve(int ref) const { return typename C3T3::Curve_index(ref); }
+  typename C3T3::Corner_index corner(int ref) const { return typename C3T3::Corner_index(ref); }
+  void set_vertex(Vertex_handle v, std::size_t i, const C3t3_vertex_location& l) const
+  {
+    switch(l.dimension) {
+    case 0: v->set_index(domain.index_from_corner_index(corner(l.index))); break;
+    case 1: v->set_index(domain.index_from_curve_index(curve(l.index))); break;
+    case 2: v->set_index(domain.index_from_surface_patch_index(patch(l.index))); break;
+    case 3: v->set_index(domain.index_from_subdomain_index(l.index)); break;
+    default:
+      throw Invalid_input("tet_mesh_to_c3t3: vertex " + std::to_string(i) + " has dimension " +
+                          std::to_string(l.dimension));
+    }
+    v->set_dimension(l.dimension);
+  }
+};
+
+/// Fills `c3t3` (which must be empty) from `mesh`, the refs turned into the
+/// complex's indices by `indices` (`Domain_indices` or another type with its
+/// four members: `patch(ref)`, `curve(ref)`, `corner(ref)` and
+/// `set_vertex(handle, i, location)`; tets' refs are subdomain indices).
 ///
 /// `mesh` must cover a convex region: the tets of the domain (refs > 0) plus
 /// padding tets of ref 0 out to a convex box (see `pad_to_box()`); every tet
-/// positively oriented. Its triangles (with their patch ids) become the
+/// positively oriented. Its triangles (with their patch refs) become the
 /// facets of the complex (boundary and interface facets), its edges (with
-/// their curve ids) the feature edges. `locations[i]` gives the dimension
-/// and index of vertex `i` (see `vertex_locations()`); indices are turned
-/// into `C3T3::Index` through `domain.index_from_*()`. Corners are added
-/// with their ids. If `handles` is not null it receives the id -> handle map
+/// their curve refs) the feature edges. `locations[i]` gives the dimension
+/// and ref of vertex `i` (see `vertex_locations()`). Corners are added
+/// with their refs. If `handles` is not null it receives the id -> handle map
 /// (`(*handles)[i]` is the handle of vertex `i`).
 ///
 /// Throws `Invalid_input` before building if a tet is not positively
@@ -154,16 +214,13 @@ bool build_triangulation_adapter(Tr& tr, const std::vector<typename Tr::Point>& 
 /// TDS is not valid or the hull is not convex, if a listed triangle is no face, if a face
 /// between two subdomains (0 included) is not listed, or if a feature edge
 /// is no edge. The complex is left partially filled when it throws.
-template <class C3T3, class MeshDomain>
-void tet_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_vertex_location>& locations,
-                      const MeshDomain& domain, C3T3& c3t3,
-                      std::vector<typename C3T3::Vertex_handle>* handles = nullptr)
+template <class C3T3, class Indices>
+void indexed_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_vertex_location>& locations,
+                          const Indices& indices, C3T3& c3t3,
+                          std::vector<typename C3T3::Vertex_handle>* handles = nullptr)
 {
   typedef typename C3T3::Triangulation Tr;
   typedef typename Tr::Vertex_handle Vertex_handle;
-  typedef typename C3T3::Surface_patch_index Surface_patch_index;
-  typedef typename C3T3::Curve_index Curve_index;
-  typedef typename C3T3::Corner_index Corner_index;
   typedef CGAL::Exact_predicates_inexact_constructions_kernel::Point_3 Bare_point;
 
   const std::size_t n = mesh.points.size();
@@ -203,7 +260,7 @@ void tet_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_ver
     std::array<int, 3> key = mesh.triangles[f];
     for (int v : key) check_index(v);
     std::sort(key.begin(), key.end());
-    border[key] = Surface_patch_index(f < mesh.triangle_refs.size() ? mesh.triangle_refs[f] : 1);
+    border[key] = indices.patch(f < mesh.triangle_refs.size() ? mesh.triangle_refs[f] : 1);
   }
 
   // 4. build
@@ -241,20 +298,7 @@ void tet_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_ver
   }
 
   // 5. vertex dimension and index (not derived by the builder, 6.3 item 3)
-  for (std::size_t i = 0; i < n; ++i) {
-    const C3t3_vertex_location& l = locations[i];
-    Vertex_handle v = vh[i + 1];
-    switch (l.dimension) {
-    case 0: v->set_index(domain.index_from_corner_index(Corner_index(l.index))); break;
-    case 1: v->set_index(domain.index_from_curve_index(Curve_index(l.index))); break;
-    case 2: v->set_index(domain.index_from_surface_patch_index(Surface_patch_index(l.index))); break;
-    case 3: v->set_index(domain.index_from_subdomain_index(l.index)); break;
-    default:
-      throw Invalid_input("tet_mesh_to_c3t3: vertex " + std::to_string(i) + " has dimension " +
-                          std::to_string(l.dimension));
-    }
-    v->set_dimension(l.dimension);
-  }
+  for (std::size_t i = 0; i < n; ++i) indices.set_vertex(vh[i + 1], i, locations[i]);
 
   // 6. count cells and facets; corners come back with Corner_index(1) ...
   c3t3.rescan_after_load_of_triangulation();
@@ -273,7 +317,7 @@ void tet_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_ver
     if (locations[i].dimension == 0) {
       Vertex_handle v = vh[i + 1];
       c3t3.remove_from_complex(v);
-      c3t3.add_to_complex(v, Corner_index(locations[i].index));
+      c3t3.add_to_complex(v, indices.corner(locations[i].index));
     }
   // 7. feature edges (never rebuilt by the rescan)
   for (std::size_t e = 0; e < mesh.edges.size(); ++e) {
@@ -285,9 +329,18 @@ void tet_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_ver
     if (!c3t3.triangulation().tds().is_edge(vh[ab[0] + 1], vh[ab[1] + 1], c, i, j))
       throw Invalid_input("tet_mesh_to_c3t3: feature edge " + std::to_string(e) + " is no edge of the tets");
     c3t3.add_to_complex(vh[ab[0] + 1], vh[ab[1] + 1],
-                        Curve_index(e < mesh.edge_refs.size() ? mesh.edge_refs[e] : 1));
+                        indices.curve(e < mesh.edge_refs.size() ? mesh.edge_refs[e] : 1));
   }
   if (handles != nullptr) handles->assign(vh.begin() + 1, vh.end());
+}
+
+/// `indexed_mesh_to_c3t3()` with the domain's own ids (`Domain_indices`).
+template <class C3T3, class MeshDomain>
+void tet_mesh_to_c3t3(const Indexed_tet_mesh_3& mesh, const std::vector<C3t3_vertex_location>& locations,
+                      const MeshDomain& domain, C3T3& c3t3,
+                      std::vector<typename C3T3::Vertex_handle>* handles = nullptr)
+{
+  indexed_mesh_to_c3t3(mesh, locations, Domain_indices<C3T3, MeshDomain>{domain}, c3t3, handles);
 }
 
 /// Same, with the locations implied by `mesh` (`vertex_locations(mesh)`).

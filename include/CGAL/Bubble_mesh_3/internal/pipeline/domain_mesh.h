@@ -11,7 +11,6 @@
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/internal/c3t3/tet_soup_to_c3t3.h>
 
-#include <algorithm>
 #include <vector>
 
 namespace CGAL {
@@ -35,37 +34,6 @@ struct Domain_mesh {
     return int(mesh.points.size()) - 1;
   }
 };
-
-/// The C3T3 locations after the improvement: a kept vertex keeps its own
-/// (`new_vertex_index`: empty if none was removed), a split vertex gets its
-/// curve if on a feature edge, its patch if in a boundary triangle, else
-/// its subdomain (`point_refs`: the index).
-inline void relocate_after_improvement(const Indexed_tet_mesh_3& m, const std::vector<int>& new_vertex_index,
-                                       std::vector<C3t3_vertex_location>& locations)
-{
-  std::vector<C3t3_vertex_location> moved(m.points.size(), C3t3_vertex_location{3, 0});
-  std::vector<char> known(m.points.size(), 0);
-  for(std::size_t v = 0; v < locations.size(); ++v) {
-    const int w = new_vertex_index.empty() ? int(v) : new_vertex_index[v];
-    if(w >= 0) {
-      moved[std::size_t(w)] = locations[v];
-      known[std::size_t(w)] = 1;
-    }
-  }
-  if(std::find(known.begin(), known.end(), char(0)) != known.end()) {
-    std::vector<int> dimension(m.points.size(), 3);
-    for(const auto& f : m.triangles)
-      for(int v : f)
-        dimension[std::size_t(v)] = 2;
-    for(const auto& e : m.edges)
-      for(int v : e)
-        dimension[std::size_t(v)] = 1;
-    for(std::size_t v = 0; v < m.points.size(); ++v)
-      if(!known[v])
-        moved[v] = C3t3_vertex_location{dimension[v], m.point_refs[v]};
-  }
-  locations = std::move(moved);
-}
 
 } // namespace internal
 } // namespace Bubble_mesh_3
