@@ -39,6 +39,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -176,6 +177,56 @@ TEST(ImproveC3t3, Mesh3BoxWithFeatures)
   Out_c3t3 again;
   const BM::Improvement_report r2 = improve_and_check(out, again, field, "Mesh_3 box, second round");
   EXPECT_GE(r2.worst_after, r.worst_after);
+}
+
+TEST(ImproveC3t3, NamedParametersSetTheImprovementOptions)
+{
+  const BM::Improvement_options defaults;
+  const BM::Improvement_options plain = BM::improvement_options(CGAL::parameters::default_values());
+  EXPECT_EQ(plain.maximum_passes, defaults.maximum_passes);
+  EXPECT_EQ(plain.edge_splits, defaults.edge_splits);
+  EXPECT_EQ(plain.target_angle, defaults.target_angle);
+  EXPECT_FALSE(plain.surface_projection);
+  int stops = 0;
+  const BM::Improvement_options o = BM::improvement_options(
+      BM::parameters::number_of_iterations(3)
+          .improvement_time_limit(7.5)
+          .random_seed(11u)
+          .target_angle(33.0)
+          .flips(false)
+          .smoothing(false)
+          .boundary_smoothing(false)
+          .boundary_flips(false)
+          .curved_boundary_flips(false)
+          .sliver_moves(false)
+          .edge_splits(true)
+          .split_below_angle(12.0)
+          .edge_collapses(true)
+          .keep_edges_in_range(true)
+          .edge_lengths(true)
+          .maximum_ring_size(6)
+          .smoothing_iterations(4)
+          .should_stop(std::function<bool()>([&stops] { return ++stops > 0; }))
+          .surface_projection(std::function<bool(int, const std::array<double, 3>&, std::array<double, 3>&)>(
+              [](int, const std::array<double, 3>& p, std::array<double, 3>& q) {
+                q = p;
+                return true;
+              })));
+  EXPECT_EQ(o.maximum_passes, 3);
+  EXPECT_EQ(o.time_limit_seconds, 7.5);
+  EXPECT_EQ(o.random_seed, 11u);
+  EXPECT_EQ(o.target_angle, 33.0);
+  EXPECT_FALSE(o.flips || o.smoothing || o.boundary_smoothing || o.boundary_flips || o.curved_boundary_flips ||
+               o.sliver_moves);
+  EXPECT_TRUE(o.edge_splits && o.edge_collapses && o.keep_edges_in_range && o.edge_lengths);
+  EXPECT_EQ(o.split_below_angle, 12.0);
+  EXPECT_EQ(o.maximum_ring_size, 6);
+  EXPECT_EQ(o.smoothing_iterations, 4);
+  ASSERT_TRUE(o.should_stop);
+  EXPECT_TRUE(o.should_stop());
+  EXPECT_EQ(stops, 1);
+  ASSERT_TRUE(o.surface_projection);
+  EXPECT_FALSE(o.curve_projection);
 }
 
 TEST(ImproveC3t3, SplitsAndCollapsesWithNamedParameters)

@@ -5,6 +5,7 @@
 #ifndef CGAL_BUBBLE_MESH_3_IMPROVE_MESH_H
 #define CGAL_BUBBLE_MESH_3_IMPROVE_MESH_H
 
+#include <CGAL/Bubble_mesh_3/Improvement_options.h>
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/Quality_report.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
@@ -182,121 +183,6 @@
 namespace CGAL {
 namespace Bubble_mesh_3 {
 
-/// \ingroup PkgBubbleMesh3Ref
-/// Options of `improve_mesh()`.
-struct Improvement_options {
-  /// upper bound on the number of passes over the bad tets
-  int maximum_passes = 10;
-  /// wall-clock budget in seconds; a negative value means automatic:
-  /// 2 s plus 10 s per 100,000 tets (`time_limit_reached` tells when it cut)
-  double time_limit_seconds = -1;
-  /// apply 2-3 flips and edge removals (3-2, 4-4, n-to-(2n-4))
-  bool flips = true;
-  /// move vertices (interior ones; boundary ones with `boundary_smoothing`)
-  bool smoothing = true;
-  /// tets whose quality (metric minimum dihedral angle, degrees) is below
-  /// this are worked on
-  double target_angle = 40;
-  /// largest number of tets around an edge that edge removal considers
-  int maximum_ring_size = 10;
-  /// steepest-ascent steps per smoothing of one vertex
-  int smoothing_iterations = 8;
-  /// also move boundary and interface vertices where that cannot change the
-  /// domain: in the plane of a planar region of one patch, along a straight
-  /// feature line (see the file documentation); needs `smoothing`
-  bool boundary_smoothing = true;
-  /// flip boundary edges inside planar regions of one patch (2-2, 4-4, ...:
-  /// see the file documentation); changes `triangles` but not the surface
-  bool boundary_flips = true;
-  /// with `boundary_flips` and a `surface_projection`: also flip boundary
-  /// edges whose two triangles are not in one plane, and remove *caps* (a
-  /// tet with two boundary triangles of one patch, flat on a curved or
-  /// noisy surface), when no new boundary triangle turns by more than 20
-  /// degrees from the old ones: the surface changes by the flipped chords
-  /// (see the file documentation); false keeps every boundary triangle
-  bool curved_boundary_flips = true;
-  /// for a vertex of a sliver that smoothing could not move: push it off
-  /// the sliver's opposite face, then random trial moves
-  bool sliver_moves = true;
-  /// when flips and moves are stuck: split an edge of each tet still below
-  /// `split_below_angle` (an interior edge, a boundary edge of one patch
-  /// with a `surface_projection`, a feature edge with a `curve_projection`;
-  /// never an interface edge), at the point near
-  /// its midpoint that maximises the worst of the new tets (on the patch's
-  /// surface for a boundary edge), when that raises the worst tet around
-  /// the edge by a degree or more; then flips and moves again (up to three
-  /// rounds). Adds vertices (appended to `points`, and to `point_refs` if it
-  /// is filled: the patch of a boundary vertex, the subdomain of an interior
-  /// one, the curve of a feature-edge vertex), splits listed triangles (the
-  /// second halves appended) and feature edges (likewise).
-  /// Off by default: a caller holding data per vertex (a C3T3) must expect
-  /// the new vertices.
-  bool edge_splits = false;
-  double split_below_angle = 15;
-  /// in the same rounds, before the splits: collapse a short edge of each
-  /// tet still below `split_below_angle` (the shortest in the metric first,
-  /// each direction), removing a free vertex or a vertex inside one patch
-  /// (the edge then a boundary edge of that patch) onto its neighbour, when
-  /// the link condition holds (the mesh and its boundary stay manifold),
-  /// every new tet is positive, no boundary triangle turns by more than 20
-  /// degrees, and the worst tet of the removed vertex's star rises by a
-  /// degree. Removes vertices and listed triangles, renumbering the rest
-  /// (`Improvement_report::new_vertex_index`). Off by default, like the splits.
-  bool edge_collapses = false;
-  /// interior vertex moves keep every edge of the vertex that is in [1/sqrt(2),
-  /// sqrt(2)] in the metric in that range (boundary moves always do), so the
-  /// smoothing does not buy angles with edge lengths. Off by default (as
-  /// before); on in the pipeline: on UGAWG polar-1 at sizes x2 the edges in
-  /// range go from 71.7 % to 74.6 % instead of 62.3 %, the worst angle
-  /// 9.8 degrees instead of 10.6
-  bool keep_edges_in_range = false;
-  /// after the first passes of flips and moves, up to 4 rounds over the edges outside
-  /// [1/sqrt(2), sqrt(2)] in the metric, which flips and moves cannot fix
-  /// where the metric grades fast: each edge longer than sqrt(2) (longest
-  /// first) is removed by an edge removal when no new edge is as long (an
-  /// edge cutting through a layer of nodes), else split near its midpoint
-  /// when every new edge is shorter than it and not shorter than 1/sqrt(2)
-  /// (a gap); each edge shorter than 1/sqrt(2) (shortest first) is
-  /// collapsed when that lowers the summed log-scale excess outside the
-  /// range of the removed vertex's edges (a cluster). Every change keeps
-  /// the worst tet around at least at the lower of its old worst and the
-  /// higher of 20 degrees and the mesh's worst (the worst never drops). Then
-  /// passes again. Adds and removes vertices like the splits and collapses (with
-  /// the same conditions on the boundary). Off by default; on in the
-  /// pipeline (the elephant with a 1:10 layer: edges in range 81 -> 84 %)
-  bool edge_lengths = false;
-  /// seed of those random trial moves (the result is a function of it)
-  unsigned random_seed = 0;
-  /// tets of ref 0 are padding outside the domain (as the cells outside the
-  /// complex of a C3T3): every move keeps them positively oriented, but they
-  /// are never flipped, never measured, and not counted in the report
-  bool ref_0_is_exterior = false;
-  /// the true surface of the curved patches: `surface_projection(ref, p, q)`
-  /// writes into `q` the point of patch `ref` (a triangle ref) closest to
-  /// `p` and returns true (false: no move). When set, with
-  /// `boundary_smoothing`, a vertex inside one curved patch (one closed fan
-  /// of listed triangles of that ref on the domain boundary, no feature edge
-  /// or corner at it) slides along the surface: every candidate is
-  /// projected by it, moves by at most half its shortest metric edge, and
-  /// turns no boundary triangle at it by more than 20 degrees. The boundary
-  /// triangles stay the same (same vertices, refs and orientation) and their
-  /// vertices stay on the surface, but the triangles move with their
-  /// vertices, so the meshed volume changes by the change of the chords.
-  /// Unset (the default): vertices of curved patches never move.
-  std::function<bool(int, const std::array<double, 3>&, std::array<double, 3>&)> surface_projection;
-  /// the true curves of the curved feature curves: `curve_projection(ref, p,
-  /// q)` writes into `q` the point of curve `ref` (an edge ref) closest to `p`
-  /// and returns true (false: no move). When set, with `boundary_smoothing`,
-  /// a vertex inside a curved feature curve (two feature edges of that ref,
-  /// not on a straight line) slides along the curve, strictly between its
-  /// two neighbours on it, under the same bounds as a surface move. Unset
-  /// (the default): vertices of curved feature curves never move.
-  std::function<bool(int, const std::array<double, 3>&, std::array<double, 3>&)> curve_projection;
-  /// polled between operations (every 64 flips, every 16 vertex moves); a
-  /// `true` ends the work as the time limit does (`time_limit_reached`).
-  /// An exception thrown by it propagates and leaves `mesh` unchanged.
-  std::function<bool()> should_stop;
-};
 
 /// \ingroup PkgBubbleMesh3Ref
 /// What `improve_mesh()` did. Qualities are metric minimum dihedral angles
@@ -410,27 +296,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   internal::improve::Mutable_tet_mesh work(mesh, options.ref_0_is_exterior,
                                           options.boundary_smoothing ? options.surface_projection : nullptr,
                                           options.boundary_smoothing ? options.curve_projection : nullptr);
-  internal::improve::Improver_settings settings;
-  settings.maximum_passes = std::max(0, options.maximum_passes);
-  settings.time_limit_seconds = options.time_limit_seconds >= 0
-                                    ? options.time_limit_seconds
-                                    : 2.0 + 1e-4 * double(mesh.tets.size());
-  settings.flips = options.flips;
-  settings.smoothing = options.smoothing;
-  settings.target_angle = options.target_angle;
-  settings.maximum_ring_size = std::size_t(std::max(3, options.maximum_ring_size));
-  settings.smoothing_iterations = std::max(0, options.smoothing_iterations);
-  settings.boundary_smoothing = options.boundary_smoothing;
-  settings.boundary_flips = options.boundary_flips;
-  settings.curved_boundary_flips = options.curved_boundary_flips;
-  settings.sliver_moves = options.sliver_moves;
-  settings.random_seed = options.random_seed;
-  settings.edge_splits = options.edge_splits;
-  settings.split_below_angle = options.split_below_angle;
-  settings.edge_collapses = options.edge_collapses;
-  settings.keep_edges_in_range = options.keep_edges_in_range;
-  settings.edge_lengths = options.edge_lengths;
-  settings.should_stop = options.should_stop;
+  const internal::improve::Improver_settings settings(options, mesh.tets.size());
 
   internal::improve::Mesh_improver<MetricField_3> improver(work, field, settings);
   internal::improvement_statistics(improver.qualities(), options.target_angle, report.worst_before,

@@ -5,6 +5,7 @@
 #ifndef CGAL_BUBBLE_MESH_3_INTERNAL_IMPROVE_MESH_IMPROVER_H
 #define CGAL_BUBBLE_MESH_3_INTERNAL_IMPROVE_MESH_IMPROVER_H
 
+#include <CGAL/Bubble_mesh_3/Improvement_options.h>
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/Quality_report.h>
 #include <CGAL/Bubble_mesh_3/internal/improve/Boundary_grid.h>
@@ -45,42 +46,21 @@ namespace Bubble_mesh_3 {
 namespace internal {
 namespace improve {
 
-/// Counters and options shared with the public header (copied there).
-struct Improver_settings {
-  int maximum_passes;
-  double time_limit_seconds;
-  bool flips;
-  bool smoothing;
-  double target_angle;
-  std::size_t maximum_ring_size;
-  int smoothing_iterations;
-  /// slide vertices of planar boundary regions and straight feature lines
-  bool boundary_smoothing = true;
-  /// flip boundary edges inside planar regions of one patch
-  bool boundary_flips = true;
-  /// with a surface projection: also boundary flips off a plane (see
-  /// `surface_change_is_small()`), caps included
-  bool curved_boundary_flips = true;
-  /// for the vertices of a sliver that smoothing could not move: the push
-  /// off the opposite face, then random trial moves
-  bool sliver_moves = true;
+/// The improver's settings: the user's options (`Improvement_options`) with
+/// their ranges enforced and the automatic time limit resolved.
+struct Improver_settings : Improvement_options {
+  /// `maximum_ring_size`, at least 3
+  std::size_t ring_limit;
+  /// random trial moves per sliver vertex that a push could not free
   int perturbation_trials = 16;
-  /// when flips and moves are done: split an edge of each tet still below
-  /// `split_below_angle` (see `Mesh_improver::split_phase()`); adds vertices
-  bool edge_splits = false;
-  double split_below_angle = 15;
-  /// before the splits: collapse a short edge of each tet still below
-  /// `split_below_angle` (see `Mesh_improver::collapse_phase()`); removes vertices
-  bool edge_collapses = false;
-  /// interior vertex moves keep the vertex's edges that are in [1/sqrt2,
-  /// sqrt2] in that range, as boundary moves always do
-  bool keep_edges_in_range = false;
-  /// before the flips and moves: split edges longer than sqrt2 and collapse
-  /// edges shorter than 1/sqrt2 in the metric (see `Mesh_improver::length_phase()`)
-  bool edge_lengths = false;
-  unsigned random_seed = 0;
-  /// polled with the clock; true stops the work like the time limit
-  std::function<bool()> should_stop;
+
+  Improver_settings(const Improvement_options& o, std::size_t number_of_tets)
+    : Improvement_options(o), ring_limit(std::size_t(std::max(3, o.maximum_ring_size)))
+  {
+    maximum_passes = std::max(0, o.maximum_passes);
+    time_limit_seconds = o.time_limit_seconds >= 0 ? o.time_limit_seconds : 2.0 + 1e-4 * double(number_of_tets);
+    smoothing_iterations = std::max(0, o.smoothing_iterations);
+  }
 };
 
 struct Improver_counters {
@@ -489,7 +469,7 @@ private:
       consider_boundary_flip(t, a, b, best);
       return;
     }
-    if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring_, ring_tets_))
+    if(!m_.edge_ring(a, b, s_.ring_limit, ring_, ring_tets_))
       return;
     const int ref = m_.refs[std::size_t(t)];
     double old_worst = std::numeric_limits<double>::infinity();
@@ -535,7 +515,7 @@ private:
   {
     if(!s_.boundary_flips || m_.has_duplicate_triangles || m_.is_feature_edge(a, b))
       return;
-    if(!m_.edge_fan(a, b, s_.maximum_ring_size - 1, ring_, ring_tets_))
+    if(!m_.edge_fan(a, b, s_.ring_limit - 1, ring_, ring_tets_))
       return;
     const int n = int(ring_.size());
     const int p0 = ring_.front(), pk = ring_.back();
@@ -1551,9 +1531,9 @@ private:
     std::vector<int>& ring = e.ring;
     if(e.boundary) {
       if((!e.feature && !m_.surface_projection) || m_.has_duplicate_triangles ||
-         !m_.edge_fan(a, b, s_.maximum_ring_size - 1, ring, e.ring_tets))
+         !m_.edge_fan(a, b, s_.ring_limit - 1, ring, e.ring_tets))
         return false;
-    } else if(!m_.edge_ring(a, b, s_.maximum_ring_size, ring, e.ring_tets))
+    } else if(!m_.edge_ring(a, b, s_.ring_limit, ring, e.ring_tets))
       return false;
     e.ref = m_.refs[std::size_t(t)];
     for(int s : e.ring_tets) {
@@ -1852,7 +1832,7 @@ private:
   /// not a gap. Counted as a length flip.
   bool remove_long_edge(int t, int a, int b, double length)
   {
-    if(m_.is_protected_edge(a, b) || !m_.edge_ring(a, b, s_.maximum_ring_size, ring_, ring_tets_))
+    if(m_.is_protected_edge(a, b) || !m_.edge_ring(a, b, s_.ring_limit, ring_, ring_tets_))
       return false;
     const int ref = m_.refs[std::size_t(t)];
     double old_worst = std::numeric_limits<double>::infinity();
