@@ -29,12 +29,10 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <iterator>
 #include <limits>
 #include <map>
-#include <set>
 #include <string>
-#include <tuple>
+#include <type_traits>
 #include <vector>
 
 namespace CGAL {
@@ -142,63 +140,35 @@ inline std::vector<char> input_corners(const front::Boundary_surface& surface, c
   return is_corner;
 }
 
-/// The domain's curve id of each feature chain of the input surface: the
-/// curve of a packed curve node on a front feature edge over that chain, or,
-/// for a chain without one (between two corners, all its nodes added by the
-/// boundary front), the domain curve with the same two ends whose length is
-/// closest to the chain's. -1 for a chain the front does not use.
-template <typename Kernel, typename MeshDomain>
+/// The domain's curve id of each feature chain of the input surface that the
+/// front uses (-1 for the others): the domain's curve through the midpoints
+/// of the chain's input edges (the domain's own segment tree of its curves).
+/// Throws `Meshing_failure` if an edge lies on no curve of the domain, or a
+/// chain's edges on two.
+template <typename MeshDomain>
 std::vector<int> curves_of_feature_chains(const MeshDomain& domain, const front::Boundary_surface& surface,
-                                          const front::Feature_chains& chains, const front::Boundary_front& bf,
-                                          const std::vector<C3t3_vertex_location>& locations)
+                                          const front::Feature_chains& chains, const front::Boundary_front& bf)
 {
   std::vector<int> curve(chains.chains.size(), -1);
   std::vector<char> used(chains.chains.size(), 0);
-  for(std::size_t i = 0; i < bf.feature_edges.size(); ++i) {
-    const int chain = chains.chain_of_edge[std::size_t(bf.feature_edge_sources[i])];
-    used[std::size_t(chain)] = 1;
-    for(int v : bf.feature_edges[i])
-      if(locations[std::size_t(v)].dimension == 1 && locations[std::size_t(v)].index >= 0)
-        curve[std::size_t(chain)] = locations[std::size_t(v)].index;
-  }
-  typedef typename Kernel::Point_3 Point;
-  std::vector<std::tuple<typename MeshDomain::Curve_index, std::pair<Point, typename MeshDomain::Index>,
-                         std::pair<Point, typename MeshDomain::Index>>>
-      curves;
-  domain.get_curves(std::back_inserter(curves));
+  for(int source : bf.feature_edge_sources)
+    used[std::size_t(chains.chain_of_edge[std::size_t(source)])] = 1;
+  typedef typename std::decay_t<decltype(domain.curves_aabb_tree())>::Point Point;
   for(std::size_t c = 0; c < curve.size(); ++c) {
-    if(curve[c] >= 0 || !used[c])
+    if(!used[c])
       continue;
-    const auto& a = surface.points[std::size_t(chains.chains[c].ends[0])];
-    const auto& b = surface.points[std::size_t(chains.chains[c].ends[1])];
-    auto same = [](const Point& p, const std::array<double, 3>& q) {
-      return CGAL::to_double(p.x()) == q[0] && CGAL::to_double(p.y()) == q[1] && CGAL::to_double(p.z()) == q[2];
-    };
-    // a closed loop without corner: the domain's cycle through one of its vertices
-    const bool loop = chains.chains[c].ends[0] == chains.chains[c].ends[1];
-    std::set<std::array<double, 3>> loop_points;
-    if(loop)
-      for(int e : chains.chains[c].edges)
-        for(int v : surface.feature_edges[std::size_t(e)])
-          loop_points.insert(surface.points[std::size_t(v)]);
-    auto on_loop = [&](const Point& p) {
-      return loop_points.count({{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}}) != 0;
-    };
-    double best = std::numeric_limits<double>::max();
-    for(const auto& dc : curves) {
-      const Point &ca = std::get<1>(dc).first, &cb = std::get<2>(dc).first;
-      const bool ends_match = loop ? ca == cb && on_loop(ca)
-                                   : (same(ca, a) && same(cb, b)) || (same(ca, b) && same(cb, a));
-      if(!ends_match)
-        continue;
-      const double d = std::abs(CGAL::to_double(domain.curve_length(std::get<0>(dc))) - chains.chains[c].length);
-      if(d < best) {
-        best = d;
-        curve[c] = static_cast<int>(std::get<0>(dc));
-      }
+    for(int e : chains.chains[c].edges) {
+      const auto& a = surface.points[std::size_t(surface.feature_edges[std::size_t(e)][0])];
+      const auto& b = surface.points[std::size_t(surface.feature_edges[std::size_t(e)][1])];
+      const Point mid((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2);
+      const auto hit = domain.curves_aabb_tree().closest_point_and_primitive(mid);
+      const double squared_length = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                                    (a[2] - b[2]) * (a[2] - b[2]);
+      const int id = static_cast<int>(hit.second.first->first);
+      if(CGAL::to_double(CGAL::squared_distance(hit.first, mid)) > 1e-12 * squared_length || (curve[c] >= 0 && curve[c] != id))
+        throw Meshing_failure("boundary front: a feature curve of the surface is not a curve of the domain");
+      curve[c] = id;
     }
-    if(curve[c] < 0)
-      throw Meshing_failure("boundary front: a feature curve of the surface is not a curve of the domain");
   }
   return curve;
 }
@@ -212,7 +182,6 @@ Domain_boundary boundary_stage(const MeshDomain& domain, const MetricField& fiel
                                const Run_control& control, Meshing_report& rep, Domain_mesh& out)
 {
   namespace F = front;
-  typedef typename MetricField::Kernel K;
   control.advance(0.5);
   const auto t0 = std::chrono::steady_clock::now();
   Domain_boundary boundary;
@@ -275,7 +244,7 @@ Domain_boundary boundary_stage(const MeshDomain& domain, const MetricField& fiel
 
   // feature edges: the curve of the input chain each one runs along
   boundary.chains = F::feature_chains(surface, input_corners(surface, m));
-  boundary.chain_curves = curves_of_feature_chains<K>(domain, surface, boundary.chains, bf, out.locations);
+  boundary.chain_curves = curves_of_feature_chains(domain, surface, boundary.chains, bf);
   m.edges = bf.feature_edges;
   for(std::size_t i = 0; i < bf.feature_edges.size(); ++i) {
     const int chain = boundary.chains.chain_of_edge[std::size_t(bf.feature_edge_sources[i])];
