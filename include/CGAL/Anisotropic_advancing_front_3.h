@@ -212,11 +212,24 @@ private:
     Blocker why; // while rejected
   };
 
+  // Every face the front ever had is kept (ids stay valid), so a face holds
+  // only what every face needs; what a face needs only once it has waited
+  // is in a Waiting_state of its own, given back when the face dies (a
+  // 1M-tet front has about 2M faces, most of which never wait).
   struct Face {
-    Triangle v;
-    Box box; // of its vertices
+    Triangle v;                    // (its box is recomputed: `box_of(f)`)
     bool alive = true;
     bool waiting = false;      // its Delaunay pair was not removable
+    // its Delaunay node when the search covered the node's sphere (it stays
+    // the Delaunay node until it dies: nodes only die while the front
+    // advances), and why that pair was not removable
+    int delaunay = -1;
+    Blocker delaunay_why;
+    unsigned stamp = 0;            // heap entries with another stamp are stale
+    int state = -1;                // its Waiting_state, -1 before it first waits
+  };
+
+  struct Waiting_state {
     // while waiting: the box its decisions depend on (its triangle, the tets
     // they tested; the scanned boxes when a Delaunay search ended before
     // covering its winner's sphere); only a tet added in it can change them
@@ -229,12 +242,6 @@ private:
     std::size_t cursor = 0;        // the next candidate to offer
     Box rejected_box;              // of the rejected candidates' tets
     bool has_rejected = false;
-    // its Delaunay node when the search covered the node's sphere (it stays
-    // the Delaunay node until it dies: nodes only die while the front
-    // advances), and why that pair was not removable
-    int delaunay = -1;
-    Blocker delaunay_why;
-    unsigned stamp = 0;            // heap entries with another stamp are stale
   };
 
   // a waiting face's best candidate not yet found not removable; the
@@ -300,6 +307,14 @@ private:
       waiting_grid_.reset(lo, hi, cell_, 2 * xyz_.size() + 8);
     }
     faces_.clear();
+    // Every face ever made is kept: about two per tet (one per face of the
+    // mesh), and a mesh has about 6 tets per node. Reserving room for 14 per
+    // node spares the copies of a growing vector, whose old and new buffers
+    // together were the front's peak memory; pages not reached are never
+    // touched, so a generous reserve costs address space, not memory.
+    faces_.reserve(std::size_t(14) * std::size_t(n) + boundary.size());
+    states_.clear();
+    free_states_.clear();
     face_of_.clear();
     tets_.clear();
     tet_alive_.clear();
@@ -368,6 +383,8 @@ private:
     return b;
   }
 
+  Box box_of(const Face& f) const { return box_of({f.v[0], f.v[1], f.v[2]}); }
+
   bool is_alive_node(int v) const { return front_count_[v] > 0 || tet_count_[v] == 0; }
 
   // ------------------------------------------------------- front bookkeeping
@@ -383,24 +400,23 @@ private:
       g.alive = false;
       if(g.waiting)
         stop_waiting(it->second);
-      std::vector<Candidate>().swap(g.ranked);
+      release_state(g);
       --alive_faces_;
       for(int v : g.v)
         --front_count_[v];
+      faces_grid_.remove(it->second, box_of(g));
       face_of_.erase(it);
-      faces_grid_.remove(static_cast<int>(&g - faces_.data()), g.box);
       return;
     }
     const int id = static_cast<int>(faces_.size());
     Face f;
     f.v = t;
-    f.box = box_of({t[0], t[1], t[2]});
     faces_.push_back(f);
     face_of_.emplace(key, id);
     ++alive_faces_;
     for(int v : t)
       ++front_count_[v];
-    faces_grid_.insert(id, f.box);
+    faces_grid_.insert(id, box_of(f));
     queue_.push_back(id);
   }
 
@@ -458,32 +474,58 @@ private:
     const Box b = box_of({t[0], t[1], t[2], t[3]});
     waiting_grid_.query(b, [&](int id) {
       const Face& f = faces_[id];
-      if(f.alive && f.waiting && f.region.meets(b))
+      if(f.alive && f.waiting && states_[std::size_t(f.state)].region.meets(b))
         woken_.push_back(id);
     });
     stats_.wakes += woken_.size();
     for(int id : woken_) {
       stop_waiting(id);
       if(removed) { // triangles and nodes can come back: the recorded reasons are void
-        faces_[id].ranked_valid = false;
+        state_of(faces_[id]).ranked_valid = false;
         faces_[id].delaunay = -1;
       }
       queue_.push_back(id);
     }
   }
 
+  /// the face's waiting state, made on first use
+  Waiting_state& state_of(Face& f)
+  {
+    if(f.state < 0) {
+      if(free_states_.empty()) {
+        f.state = static_cast<int>(states_.size());
+        states_.emplace_back();
+      } else {
+        f.state = free_states_.back();
+        free_states_.pop_back();
+      }
+    }
+    return states_[std::size_t(f.state)];
+  }
+
+  /// a dead face's waiting state goes back to the pool
+  void release_state(Face& f)
+  {
+    if(f.state < 0)
+      return;
+    states_[std::size_t(f.state)] = Waiting_state();
+    free_states_.push_back(f.state);
+    f.state = -1;
+  }
+
   void start_waiting(int id, const Box& region)
   {
     Face& f = faces_[id];
-    reconsider_rejected(f);
+    Waiting_state& w = state_of(f);
+    reconsider_rejected(f, w);
     f.waiting = true;
-    f.region = region;
-    f.region.extend(f.box);
-    if(f.ranked_valid && f.has_rejected)
-      f.region.extend(f.rejected_box);
-    waiting_grid_.insert(id, f.region);
+    w.region = region;
+    w.region.extend(box_of(f));
+    if(w.ranked_valid && w.has_rejected)
+      w.region.extend(w.rejected_box);
+    waiting_grid_.insert(id, w.region);
     ++waiting_count_;
-    f.cursor = 0;
+    w.cursor = 0;
     push_next_candidate(id);
   }
 
@@ -492,17 +534,17 @@ private:
     Face& f = faces_[id];
     f.waiting = false;
     ++f.stamp;
-    waiting_grid_.remove(id, f.region);
+    waiting_grid_.remove(id, states_[std::size_t(f.state)].region);
     --waiting_count_;
   }
 
   /// A rejected candidate stays rejected while what blocked it is there
-  void reconsider_rejected(Face& f)
+  void reconsider_rejected(const Face& f, Waiting_state& w)
   {
-    if(!f.ranked_valid || !f.has_rejected)
+    if(!w.ranked_valid || !w.has_rejected)
       return;
-    f.has_rejected = false;
-    for(Candidate& c : f.ranked) {
+    w.has_rejected = false;
+    for(Candidate& c : w.ranked) {
       if(!c.rejected)
         continue;
       if(!still_blocks(c.why)) {
@@ -510,11 +552,11 @@ private:
         continue;
       }
       const Box b = box_of({f.v[0], f.v[1], f.v[2], c.node});
-      if(f.has_rejected)
-        f.rejected_box.extend(b);
+      if(w.has_rejected)
+        w.rejected_box.extend(b);
       else
-        f.rejected_box = b;
-      f.has_rejected = true;
+        w.rejected_box = b;
+      w.has_rejected = true;
     }
   }
 
@@ -523,26 +565,30 @@ private:
   void push_next_candidate(int id)
   {
     Face& f = faces_[id];
+    Waiting_state& w = state_of(f);
     ++f.stamp;
-    if(!f.ranked_valid) {
+    if(!w.ranked_valid) {
       fallback_heap_.push(Heap_entry{std::numeric_limits<double>::infinity(), id, f.stamp});
       return;
     }
-    while(f.cursor < f.ranked.size() && f.ranked[f.cursor].rejected)
-      ++f.cursor;
-    if(f.cursor < f.ranked.size())
-      fallback_heap_.push(Heap_entry{f.ranked[f.cursor].quality, id, f.stamp});
+    while(w.cursor < w.ranked.size() && w.ranked[w.cursor].rejected)
+      ++w.cursor;
+    if(w.cursor < w.ranked.size())
+      fallback_heap_.push(Heap_entry{w.ranked[w.cursor].quality, id, f.stamp});
   }
 
   /// a waiting face's decisions looked into `b` too
   void extend_region(int id, const Box& b)
   {
     Face& f = faces_[id];
-    if(!f.waiting || f.region.contains(b))
+    if(!f.waiting)
       return;
-    waiting_grid_.remove(id, f.region);
-    f.region.extend(b);
-    waiting_grid_.insert(id, f.region);
+    Waiting_state& w = states_[std::size_t(f.state)];
+    if(w.region.contains(b))
+      return;
+    waiting_grid_.remove(id, w.region);
+    w.region.extend(b);
+    waiting_grid_.insert(id, w.region);
   }
 
   // ------------------------------------------------------------- metrics
@@ -820,7 +866,7 @@ private:
       if(!ok || gid == fid || !faces_[gid].alive)
         return;
       const Triangle& g = faces_[gid].v;
-      const Box& gb = faces_[gid].box;
+      const Box gb = box_of(faces_[gid]);
       if(!b.meets(gb) || separated(g))
         return;
       for(int i = 0; i < 3 && ok; ++i)
@@ -918,16 +964,16 @@ private:
     for(int attempt = 0; attempt < 3 && ranked.empty(); ++attempt) {
       candidates(f, search_box(f, m, double(1 << attempt)), cand_);
       for(int q : cand_)
-        ranked.push_back(Candidate{tet_quality(f, q), q, false});
+        ranked.push_back(Candidate{tet_quality(f, q), q, false, Blocker{}});
     }
     std::sort(ranked.begin(), ranked.end(), [this](const Candidate& a, const Candidate& b) {
       return a.quality > b.quality || (a.quality == b.quality && caller_id(a.node) < caller_id(b.node));
     });
-    Face& face = faces_[id];
-    face.ranked.swap(ranked);
-    face.ranked_valid = true;
-    face.has_rejected = false;
-    face.cursor = 0;
+    Waiting_state& w = state_of(faces_[id]);
+    w.ranked.swap(ranked);
+    w.ranked_valid = true;
+    w.has_rejected = false;
+    w.cursor = 0;
   }
 
   /// Adds the removable pair of best quality over all waiting triangles.
@@ -945,14 +991,14 @@ private:
       fallback_heap_.pop();
       if(!faces_[e.face].alive || !faces_[e.face].waiting || faces_[e.face].stamp != e.stamp)
         continue;
-      if(!faces_[e.face].ranked_valid) {
+      if(!state_of(faces_[e.face]).ranked_valid) {
         rank_candidates(e.face);
         push_next_candidate(e.face);
         continue;
       }
-      Face& f = faces_[e.face];
-      const Triangle v = f.v;
-      const int p = f.ranked[f.cursor].node;
+      const Triangle v = faces_[e.face].v;
+      const Waiting_state& w = state_of(faces_[e.face]);
+      const int p = w.ranked[w.cursor].node;
       Blocker why;
       if(!is_alive_node(p))
         why.kind = Blocker::always; // dead nodes stay dead until a recovery
@@ -961,7 +1007,7 @@ private:
         ++stats_.best_quality_tets;
         return true;
       }
-      Face& g = faces_[e.face]; // removable() does not add faces, but be safe
+      Waiting_state& g = state_of(faces_[e.face]); // removable() adds no faces, but be safe
       g.ranked[g.cursor].rejected = true;
       g.ranked[g.cursor].why = why;
       const Box b = box_of({v[0], v[1], v[2], p});
@@ -1106,7 +1152,8 @@ private:
     for(Face& f : faces_)
       if(f.alive) {
         f.waiting = false;
-        f.ranked_valid = false;
+        if(f.state >= 0)
+          states_[std::size_t(f.state)].ranked_valid = false;
         f.delaunay = -1;
         ++f.stamp;
       }
@@ -1264,6 +1311,8 @@ private:
   Bubble_mesh_3::internal::front::Box_grid waiting_grid_; // waiting faces by region
   std::vector<int> woken_;
   std::vector<Face> faces_;
+  std::vector<Waiting_state> states_; // of the faces that waited
+  std::vector<int> free_states_;      // of dead faces, to reuse
   std::unordered_map<Triangle, int, Key_hash> face_of_;
   std::vector<Tetrahedron> tets_;
   std::vector<char> tet_alive_;
