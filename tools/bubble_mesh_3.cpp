@@ -91,7 +91,7 @@ const char* const usage_text =
     "      METRIC the size is 1/20 of the bounding box diagonal. The mesh (MEDIT,\n"
     "      with boundary patches, feature edges and corners) is written only when\n"
     "      it is complete and valid. --max-nodes refuses larger node estimates\n"
-    "      before any work (default 5e6, about 13 GB). --time-limit stops the run\n"
+    "      before any work (default 5e6, about 10 GB). --time-limit stops the run\n"
     "      (exit 4, no file) when it is reached before the front is done; the\n"
     "      improvement is cut to the time left instead. Ctrl-C (SIGINT) stops it\n"
     "      at the next check point (exit 130, no file). Input checks: see\n"

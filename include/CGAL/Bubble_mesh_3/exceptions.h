@@ -45,7 +45,7 @@ class Too_many_nodes : public Invalid_input {
 public:
   Too_many_nodes(double estimated, double limit)
       : Invalid_input("the metric asks for about " + whole(estimated) + " nodes, more than the cap of " +
-                      whole(limit) + " (maximum_number_of_bubbles, --max-nodes; a run needs about 2.6 kB of "
+                      whole(limit) + " (maximum_number_of_bubbles, --max-nodes; a run needs about 2 kB of "
                       "memory per node): coarsen the metric or raise the cap"),
         estimated_(estimated), limit_(limit)
   {}

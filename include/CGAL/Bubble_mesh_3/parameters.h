@@ -20,9 +20,11 @@ namespace Bubble_mesh_3 {
 /// \ingroup PkgBubbleMesh3Ref
 /// The default of `maximum_number_of_bubbles` (and of the tool's
 /// `--max-nodes`), chosen for a 24 GB machine: the measured peak memory of a
-/// whole run of the tool (packing, front, improvement) is about 2.6 kB per
-/// node (83 MB at 24k nodes, 320 MB at 110k, 1.13 GB at 435k), so 5e6 nodes
-/// need about 13 GB, leaving room for the C3T3 of `make_anisotropic_mesh_3()`.
+/// whole run of the tool (packing, front, improvement) is about 2 kB per
+/// node, less for large runs (unit cube, one thread: 57 MB at 24k nodes,
+/// 231 MB at 110k, 719 MB at 435k; doc/Bubble_mesh_3/input_checks.md), so
+/// 5e6 nodes need about 10 GB, leaving room for the C3T3 of
+/// `make_anisotropic_mesh_3()` and a second thread.
 constexpr double default_maximum_number_of_nodes = 5e6;
 /// the default bound of `surface_distance`, as a fraction of the domain's
 /// bounding box diagonal
