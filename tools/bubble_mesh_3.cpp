@@ -16,7 +16,6 @@
 #include <CGAL/Bubble_mesh_3/metric_quality.h>
 #include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Bubble_mesh_3/internal/surface_fidelity.h>
-#include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Bubble_mesh_3/analytic_metric_fields.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
@@ -25,8 +24,7 @@
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/boost/graph/copy_face_graph.h>
-
-#include "mesh_with_field.h"
+#include <CGAL/make_anisotropic_mesh_3.h>
 
 #include <algorithm>
 #include <array>
@@ -50,7 +48,7 @@
 
 namespace {
 
-using bubble_mesh_3_tool::K;
+typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
 using CGAL::Bubble_mesh_3::Indexed_tet_mesh_3;
 using CGAL::Bubble_mesh_3::Invalid_input;
 using CGAL::Bubble_mesh_3::Metric_3;
@@ -327,10 +325,10 @@ private:
            "; the metric of the nearest background vertex is used there";
   }
 
-  bubble_mesh_3_tool::Constant_field constant_;
-  std::optional<bubble_mesh_3_tool::Interpolated_field> interpolated_;
-  typedef bubble_mesh_3_tool::Metric_function Function;
-  std::optional<bubble_mesh_3_tool::Function_field> function_;
+  CGAL::Constant_metric_field_3<K> constant_;
+  std::optional<CGAL::Interpolated_metric_field_3<K>> interpolated_;
+  typedef std::function<Metric_3(const K::Point_3&)> Function;
+  std::optional<CGAL::Function_metric_field_3<K, Function>> function_;
   std::string description_;
   std::string note_;
 };
@@ -463,7 +461,7 @@ int parse_count(const std::string& text, const std::string& what)
 
 int run_mesh(int argc, char** argv)
 {
-  typedef bubble_mesh_3_tool::Domain Domain;
+  typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
   namespace BM = CGAL::Bubble_mesh_3;
   const Options o = parse_options(argc, argv, 1,
                                   {"-o", "--vtu", "--size", "--metric-const", "--metric-mesh", "--metric-sol",
@@ -572,21 +570,44 @@ int run_mesh(int argc, char** argv)
                                    : std::string()));
   }
 
-  bubble_mesh_3_tool::Field_meshing run;
-  run.domain = &domain;
-  run.surface_distance = surface_distance;
-  run.small_features = small_features;
-  run.seed = seed;
-  run.threads = threads;
-  run.max_nodes = max_nodes;
-  run.improve = !o.has("--no-improve");
-  run.time_limit = time_limit;
-  run.per_tet_quality = o.has("--vtu") || o.has("--section");
-  run.should_stop = [] { return interrupt_requested != 0; };
-  run.progress = progress;
-  run.description = metric.description();
+  std::string description = metric.description();
+
+  BM::Meshing_report meshing;
+  Indexed_tet_mesh_3 mesh;
+  BM::Quality_report quality;
+  std::vector<double> per_tet;
   try {
-    metric.visit([&](const auto& user_field) { bubble_mesh_3_tool::mesh_with_field(user_field, run); });
+    metric.visit([&](const auto& user_field) {
+      // the field meshed (and measured): the user's, intersected near the
+      // surface with the curvature sizes of the distance bound
+      const auto approximating = CGAL::make_surface_approximation_metric_field_3(domain, user_field, surface_distance);
+      if(approximating.bounded()) {
+        std::ostringstream d;
+        d << metric.description() << " with surface distance " << approximating.distance();
+        description = d.str();
+        progress("metric near the surface: curvature sizes for a distance bound of " +
+                 std::to_string(approximating.distance()));
+      }
+      // refined where corners and curves are closer than its sizes
+      const auto field = small_features ? CGAL::make_feature_size_metric_field_3(domain, approximating)
+                                        : CGAL::Feature_size_metric_field_3<std::decay_t<decltype(approximating)>>(approximating);
+      if(field.refines())
+        description += ", refined at small features";
+      mesh = BM::make_indexed_anisotropic_mesh_3(
+          domain, field,
+          BM::parameters::random_seed(seed)
+              .number_of_threads(threads)
+              .maximum_number_of_bubbles(max_nodes)
+              .meshing_report(&meshing)
+              .mesh_improvement(!o.has("--no-improve"))
+              .time_limit(time_limit)
+              .should_stop(std::function<bool()>([] { return interrupt_requested != 0; }))
+              .progress_messages(std::function<void(const std::string&)>(progress)));
+      quality = BM::compute_quality_report(mesh, field);
+      if(o.has("--vtu") || o.has("--section"))
+        per_tet = BM::metric_minimum_dihedral_angles(mesh, field);
+      return 0;
+    });
   } catch(const BM::Meshing_failure& e) {
     std::cerr << "bubble_mesh_3: meshing failed: " << e.what() << "\n";
     return 3;
@@ -597,10 +618,6 @@ int run_mesh(int argc, char** argv)
     std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT); nothing written\n";
     return exit_interrupted;
   }
-  const std::string& description = run.description;
-  const Indexed_tet_mesh_3& mesh = run.mesh;
-  BM::Quality_report& quality = run.quality;
-  const std::vector<double>& per_tet = run.per_tet;
   quality.metric_description = description;
   // An interrupt after the meshing stops before the next file; the files
   // already written are complete.
@@ -627,14 +644,14 @@ int run_mesh(int argc, char** argv)
   check_interrupt();
   if(o.has("--report")) {
     std::string json = BM::to_json(quality);
-    json.insert(json.rfind("\n}"), ",\n  \"meshing\": " + BM::to_json(run.meshing));
+    json.insert(json.rfind("\n}"), ",\n  \"meshing\": " + BM::to_json(meshing));
     json.insert(json.rfind("\n}"), ",\n  \"features\": " + BM::to_json(features.report));
     BIO::write_text_file(o.get("--report"), json + "\n");
   }
   if(o.has("--histogram"))
     BM::write_histogram_svg(o.get("--histogram"), quality, file_name(surface_path) + ", " + description);
   if(!quiet) {
-    BM::print_meshing_summary(std::cout, run.meshing);
+    BM::print_meshing_summary(std::cout, meshing);
     BM::print_quality_summary(std::cout, quality);
   }
   return 0;
