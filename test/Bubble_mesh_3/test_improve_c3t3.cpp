@@ -42,6 +42,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -142,30 +143,44 @@ BM::Improvement_report improve_and_check(const C3T3_in& in, C3T3_out& out, const
   return r;
 }
 
+typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Box_domain;
+typedef CGAL::Mesh_triangulation_3<Box_domain>::type Box_tr;
+typedef CGAL::Mesh_complex_3_in_triangulation_3<Box_tr, Box_domain::Corner_index, Box_domain::Curve_index> Box_c3t3;
+typedef CGAL::Mesh_complex_3_in_triangulation_3<CGAL::Anisotropic_mesh_triangulation_3<Box_domain>::type,
+                                                Box_domain::Corner_index, Box_domain::Curve_index>
+    Box_out_c3t3;
+
+/// a 1 x 0.8 x 0.6 box, triangulated, its 12 edges and 8 corners as features
+std::unique_ptr<Box_domain> box_domain()
+{
+  std::istringstream off("OFF\n8 12 0\n0 0 0\n1 0 0\n1 0.8 0\n0 0.8 0\n0 0 0.6\n1 0 0.6\n1 0.8 0.6\n0 0.8 0.6\n"
+                         "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
+                         "3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n");
+  Box_domain::Polyhedron polyhedron;
+  off >> polyhedron;
+  EXPECT_EQ(polyhedron.size_of_facets(), 12u);
+  auto domain = std::make_unique<Box_domain>(polyhedron);
+  domain->detect_features(60);
+  return domain;
+}
+
+/// Mesh_3's isotropic mesh of it at size 0.12; no perturbation, no
+/// exudation: Mesh_3 leaves its slivers in
+Box_c3t3 mesh3_box(const Box_domain& domain)
+{
+  namespace P = CGAL::parameters;
+  CGAL::Mesh_criteria_3<Box_tr> criteria(P::edge_size = 0.12, P::facet_angle = 25, P::facet_size = 0.12,
+                                         P::facet_distance = 0.01, P::cell_radius_edge_ratio = 3, P::cell_size = 0.12);
+  return CGAL::make_mesh_3<Box_c3t3>(domain, criteria, P::no_perturb(), P::no_exude());
+}
+
 } // namespace
 
 TEST(ImproveC3t3, Mesh3BoxWithFeatures)
 {
-  // a 1 x 0.8 x 0.6 box, triangulated, its 12 edges and 8 corners as features
-  typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
-  typedef CGAL::Mesh_triangulation_3<Domain>::type Tr;
-  typedef CGAL::Mesh_complex_3_in_triangulation_3<Tr, Domain::Corner_index, Domain::Curve_index> C3t3;
-  typedef CGAL::Mesh_criteria_3<Tr> Criteria;
-  typedef CGAL::Anisotropic_mesh_triangulation_3<Domain>::type Out_tr;
-  typedef CGAL::Mesh_complex_3_in_triangulation_3<Out_tr, Domain::Corner_index, Domain::Curve_index> Out_c3t3;
-  std::istringstream off("OFF\n8 12 0\n0 0 0\n1 0 0\n1 0.8 0\n0 0.8 0\n0 0 0.6\n1 0 0.6\n1 0.8 0.6\n0 0.8 0.6\n"
-                         "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
-                         "3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n");
-  Domain::Polyhedron polyhedron;
-  off >> polyhedron;
-  ASSERT_EQ(polyhedron.size_of_facets(), 12u);
-  Domain domain(polyhedron);
-  domain.detect_features(60);
-  namespace P = CGAL::parameters;
-  Criteria criteria(P::edge_size = 0.12, P::facet_angle = 25, P::facet_size = 0.12, P::facet_distance = 0.01,
-                    P::cell_radius_edge_ratio = 3, P::cell_size = 0.12);
-  // no perturbation, no exudation: Mesh_3 leaves its slivers in
-  const C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, P::no_perturb(), P::no_exude());
+  typedef Box_out_c3t3 Out_c3t3;
+  const std::unique_ptr<Box_domain> domain = box_domain();
+  const Box_c3t3 c3t3 = mesh3_box(*domain);
   ASSERT_GT(c3t3.number_of_edges_in_complex(), 0u);
   ASSERT_EQ(c3t3.number_of_corners(), 8u);
   CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.12));
@@ -234,24 +249,12 @@ TEST(ImproveC3t3, SplitsAndCollapsesWithNamedParameters)
   // Mesh_3's isotropic box in a 1:4 metric, improved with vertex insertion
   // and removal: the vertices change, and the result must still be a checked
   // complex whose new vertices carry the index of what they lie in
-  typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
-  typedef CGAL::Mesh_triangulation_3<Domain>::type Tr;
-  typedef CGAL::Mesh_complex_3_in_triangulation_3<Tr, Domain::Corner_index, Domain::Curve_index> C3t3;
-  typedef CGAL::Mesh_criteria_3<Tr> Criteria;
-  typedef CGAL::Anisotropic_mesh_triangulation_3<Domain>::type Out_tr;
-  typedef CGAL::Mesh_complex_3_in_triangulation_3<Out_tr, Domain::Corner_index, Domain::Curve_index> Out_c3t3;
+  typedef Box_domain Domain;
+  typedef Box_out_c3t3 Out_c3t3;
   typedef Out_c3t3::Vertex_handle Vertex_handle;
-  std::istringstream off("OFF\n8 12 0\n0 0 0\n1 0 0\n1 0.8 0\n0 0.8 0\n0 0 0.6\n1 0 0.6\n1 0.8 0.6\n0 0.8 0.6\n"
-                         "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
-                         "3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n");
-  Domain::Polyhedron polyhedron;
-  off >> polyhedron;
-  Domain domain(polyhedron);
-  domain.detect_features(60);
-  namespace P = CGAL::parameters;
-  Criteria criteria(P::edge_size = 0.12, P::facet_angle = 25, P::facet_size = 0.12, P::facet_distance = 0.01,
-                    P::cell_radius_edge_ratio = 3, P::cell_size = 0.12);
-  const C3t3 in = CGAL::make_mesh_3<C3t3>(domain, criteria, P::no_perturb(), P::no_exude());
+  const std::unique_ptr<Box_domain> box = box_domain();
+  const Box_domain& domain = *box;
+  const Box_c3t3 in = mesh3_box(domain);
   const BM::Metric_3 metric =
       BM::Metric_3::from_directions_and_sizes(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.06, 0.12, 0.24));
   CGAL::Constant_metric_field_3<K> field(metric);
