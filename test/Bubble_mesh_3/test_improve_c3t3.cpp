@@ -194,6 +194,22 @@ TEST(ImproveC3t3, Mesh3BoxWithFeatures)
   EXPECT_GE(r2.worst_after, r.worst_after);
 }
 
+TEST(ImproveC3t3, ComplexWithoutCellsIsInvalidInput)
+{
+  // an empty complex (dimension -1) and a complex of four points only
+  // (dimension 2 at most): the documented Invalid_input, nothing written
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.1));
+  Box_c3t3 empty;
+  Box_out_c3t3 out;
+  EXPECT_THROW(BM::improve_anisotropic_mesh_3(empty, out, field), BM::Invalid_input);
+  Box_c3t3 flat;
+  for(const auto& p : {Box_tr::Point(0, 0, 0), Box_tr::Point(1, 0, 0), Box_tr::Point(0, 1, 0), Box_tr::Point(1, 1, 0)})
+    flat.triangulation().insert(p);
+  ASSERT_EQ(flat.triangulation().dimension(), 2);
+  EXPECT_THROW(BM::improve_anisotropic_mesh_3(flat, out, field), BM::Invalid_input);
+  EXPECT_EQ(out.triangulation().number_of_vertices(), 0u);
+}
+
 TEST(ImproveC3t3, NamedParametersSetTheImprovementOptions)
 {
   const BM::Improvement_options defaults;
