@@ -161,9 +161,18 @@ struct Table_indices {
   /// the input vertex of each vertex of the improved mesh, -1 for a new one
   std::vector<int> origin;
 
-  typename C3T3_out::Surface_patch_index patch(int ref) const { return tables.patches[std::size_t(ref - 1)]; }
-  typename C3T3_out::Curve_index curve(int ref) const { return tables.curves[std::size_t(ref - 1)]; }
-  typename C3T3_out::Corner_index corner(int ref) const { return tables.corner_indices[std::size_t(ref - 1)]; }
+  typename C3T3_out::Surface_patch_index patch(int ref) const { return entry(tables.patches, ref, "patch"); }
+  typename C3T3_out::Curve_index curve(int ref) const { return entry(tables.curves, ref, "curve"); }
+  typename C3T3_out::Corner_index corner(int ref) const { return entry(tables.corner_indices, ref, "corner"); }
+  /// the table's entry of a 1-based ref (a ref the tables do not hold is a bug of the improvement)
+  template <typename Table>
+  static typename Table::value_type entry(const Table& table, int ref, const char* what)
+  {
+    if(ref < 1 || std::size_t(ref) > table.size())
+      throw Meshing_failure(std::string("improve_anisotropic_mesh_3: the improved mesh refers to ") + what + " " +
+                            std::to_string(ref) + " of " + std::to_string(table.size()));
+    return table[std::size_t(ref - 1)];
+  }
   void set_vertex(Vertex_handle v, std::size_t i, const C3t3_vertex_location& l) const
   {
     if(origin[i] >= 0) {
