@@ -21,6 +21,7 @@
 #include <CGAL/Function_metric_field_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interpolated_metric_field_3.h>
+#include <CGAL/Realizable_metric_field_3.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/boost/graph/copy_face_graph.h>
@@ -48,6 +49,12 @@
 
 namespace {
 
+// a constant field's frame never turns (make_realizable_metric_field_3 returns it as it is)
+template <typename F>
+struct Is_constant_field : std::false_type {};
+template <typename K>
+struct Is_constant_field<CGAL::Constant_metric_field_3<K>> : std::true_type {};
+
 typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
 using CGAL::Bubble_mesh_3::Indexed_tet_mesh_3;
 using CGAL::Bubble_mesh_3::Invalid_input;
@@ -72,7 +79,8 @@ const char* const usage_text =
     "  bubble_mesh_3 SURFACE -o OUT.mesh [METRIC] [--vtu OUT.vtu] [--feature-angle DEG]\n"
     "                [--min-feature-length L] [--report R.json] [--histogram H.svg] [--seed S] [--threads N]\n"
     "                [--max-nodes N] [--section S.svg [--section-plane x|y|z=VALUE]]\n"
-    "                [--time-limit SECONDS] [--no-small-feature-refinement] [--no-improve] [--quiet]\n"
+    "                [--time-limit SECONDS] [--no-small-feature-refinement] [--no-realizable-metric]\n"
+    "                [--no-improve] [--quiet]\n"
     "      Mesh the volume inside a closed triangle surface (OFF, OBJ, STL, PLY):\n"
     "      bubble packing on corners, sharp feature curves (edges whose faces meet\n"
     "      at more than DEG degrees from flat, default 60; a crease with a free end\n"
@@ -83,7 +91,11 @@ const char* const usage_text =
     "      interior (where corners and curves are closer to each other than the\n"
     "      metric's size it is refined to their distance, and where the part is\n"
     "      thinner than it to the thickness, growing by half the distance away\n"
-    "      from them; --no-small-feature-refinement keeps it as given), then an anisotropic advancing front, then metric flips and\n"
+    "      from them; --no-small-feature-refinement keeps it as given; where an\n"
+    "      anisotropic metric's frame turns faster than straight edges of its\n"
+    "      large sizes can follow, as a boundary layer around a curved wall,\n"
+    "      those sizes are reduced until they can: --no-realizable-metric keeps\n"
+    "      them), then an anisotropic advancing front, then metric flips and\n"
     "      smoothing of the worst tets (--no-improve: skip). Progress goes to stderr,\n"
     "      a summary (nodes, tets, times, metric quality) to stdout. Without a\n"
     "      METRIC the size is 1/20 of the bounding box diagonal. The mesh (MEDIT,\n"
@@ -468,10 +480,11 @@ int run_mesh(int argc, char** argv)
                                    "--metric-cylindrical", "--metric-boundary-layer", "--metric-ugawg", "--surface-distance", "--section", "--section-plane",
                                    "--feature-angle", "--min-feature-length", "--report", "--histogram", "--seed", "--threads", "--max-nodes",
                                    "--time-limit"},
-                                  {"--quiet", "--no-improve", "--no-small-feature-refinement"});
+                                  {"--quiet", "--no-improve", "--no-small-feature-refinement", "--no-realizable-metric"});
   if(o.positional.size() != 1)
     throw Usage_error("give exactly one SURFACE file (see bubble_mesh_3 --help)");
   const bool small_features = !o.has("--no-small-feature-refinement");
+  const bool realizable = !o.has("--no-realizable-metric");
   if(!o.has("-o"))
     throw Usage_error("missing -o OUT.mesh");
   const std::string out = o.get("-o");
@@ -577,7 +590,9 @@ int run_mesh(int argc, char** argv)
   BM::Quality_report quality;
   std::vector<double> per_tet;
   try {
-    metric.visit([&](const auto& user_field) {
+    metric.visit([&](const auto& given_field) {
+      // the user's, with large sizes reduced where its frame turns too fast for them
+      const auto user_field = CGAL::make_realizable_metric_field_3(given_field, realizable);
       // the field meshed (and measured): the user's, intersected near the
       // surface with the curvature sizes of the distance bound
       const auto approximating = CGAL::make_surface_approximation_metric_field_3(domain, user_field, surface_distance);
@@ -588,6 +603,8 @@ int run_mesh(int argc, char** argv)
         progress("metric near the surface: curvature sizes for a distance bound of " +
                  std::to_string(approximating.distance()));
       }
+      if(realizable && !Is_constant_field<std::decay_t<decltype(given_field)>>::value)
+        description += ", large sizes limited where its frame turns";
       // refined where corners and curves are closer than its sizes
       const auto field = small_features ? CGAL::make_feature_size_metric_field_3(domain, approximating)
                                         : CGAL::Feature_size_metric_field_3<std::decay_t<decltype(approximating)>>(approximating);

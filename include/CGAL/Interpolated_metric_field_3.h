@@ -181,6 +181,22 @@ public:
   const Metric& metric_at_vertex(std::size_t i) const { return data_->metrics.at(i); }
   /// the name given at construction (used in messages)
   const std::string& name() const { return data_->name; }
+  /// the position of background vertex `i` (0-based)
+  Point_3 point_at_vertex(std::size_t i) const
+  {
+    const Coordinates& c = data_->points.at(i);
+    return Point_3(c[0], c[1], c[2]);
+  }
+
+  /// the field over the same background mesh with other metrics at its
+  /// vertices (one per vertex, in the same order); throws as the constructor
+  Interpolated_metric_field_3 with_vertex_metrics(std::vector<Metric> metrics, const std::string& name) const
+  {
+    Bubble_mesh_3::Indexed_tet_mesh_3 background;
+    background.points = data_->points;
+    background.tets = data_->tets;
+    return Interpolated_metric_field_3(background, std::move(metrics), name);
+  }
 
 private:
   typedef std::array<double, 3> Coordinates;

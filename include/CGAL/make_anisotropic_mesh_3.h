@@ -166,6 +166,12 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///     measured with a first version of the field: 306 to 9,616 vertices, volume error 35 % to 0.9 %) and the
 ///     field costs about 1 microsecond per evaluation (elephant at 0.03: 2.3 s to 20 s). A field that is already a `Surface_approximation_metric_field_3` is used as it is}
 ///     \cgalParamType{double} \cgalParamDefault{0 (off)} \cgalParamNEnd
+///   \cgalParamNBegin{realizable_metric} \cgalParamDescription{reduce the metric's large sizes where its frame
+///     turns faster than straight edges of those sizes can follow (`CGAL::Realizable_metric_field_3`: a boundary
+///     layer around a curved wall gets the tangential sizes whose chords stay within the layer; a field
+///     interpolated from a background mesh is checked once per background vertex); false: the metric as given.
+///     On UGAWG polar-1 the mesh's worst mean ratio in the given metric goes from 0.038 to 0.27}
+///     \cgalParamType{bool} \cgalParamDefault{true} \cgalParamNEnd
 ///   \cgalParamNBegin{small_feature_refinement} \cgalParamDescription{refine the metric where the domain's corners
 ///     and feature curves are closer to each other than its sizes (`CGAL::Feature_size_metric_field_3`: sizes down
 ///     to the features' distance there, growing by half the distance away from them), so short curves and corner

@@ -556,6 +556,52 @@ TEST(MakeMesh, SurfaceDistanceBoundsTheBoundaryOfACurvedWall)
   }
 }
 
+TEST(MakeMesh, RealizableMetricIsTheDefaultAndCanBeTurnedOff)
+{
+  // a 1:25 layer inside the cylinder's wall (radius 1), tangential and axial
+  // sizes 0.5: a tangential chord strays 0.5^2 / 8 = 0.031 from the wall, more
+  // than the layer's normal size 0.02. By default the pipeline meshes the
+  // field with the tangential size reduced to what the chords can follow
+  // (more nodes, along the wall only); realizable_metric(false) meshes it as
+  // given. (The quality gain is measured on UGAWG polar-1 by the CLI tests.
+  // This coarse layer, 4 to 8 elements across the part, is hard for the
+  // pipeline either way: the front takes about 400 best-quality tets in both
+  // runs and the limited run keeps an edge of about 70 in the given metric.)
+  Polyhedron p = from_off(cylinder_off());
+  Domain domain(p);
+  domain.detect_features(60);
+  const auto field = CGAL::make_function_metric_field_3<K>([](const K::Point_3& q) {
+    const double x = CGAL::to_double(q.x()), y = CGAL::to_double(q.y()), r = std::sqrt(x * x + y * y);
+    const double hr = std::min(0.5, 0.02 + 0.3 * std::abs(1 - r));
+    if(!(r > 1e-9))
+      return Metric::isotropic(hr);
+    Eigen::Matrix3d dirs;
+    dirs << x / r, -y / r, 0, y / r, x / r, 0, 0, 0, 1;
+    return Metric::from_directions_and_sizes(dirs, Eigen::Vector3d(hr, 0.5, 0.5));
+  });
+  const auto limited_field = CGAL::make_realizable_metric_field_3(field);
+  // on the wall: the tangential size reduced, the axial and normal ones kept
+  const K::Point_3 wall(0.999, 0, 1.5);
+  EXPECT_LT(1 / std::sqrt(limited_field(wall)(1, 1)), 0.3);
+  EXPECT_NEAR(1 / std::sqrt(limited_field(wall)(2, 2)), 0.5, 1e-9);
+  EXPECT_NEAR(1 / std::sqrt(limited_field(wall)(0, 0)), 1 / std::sqrt(field(wall)(0, 0)), 1e-12);
+  BM::Meshing_report limited_report, given_report;
+  const BM::Indexed_tet_mesh_3 limited = BM::make_indexed_anisotropic_mesh_3(
+      domain, field, BM::parameters::meshing_report(&limited_report).number_of_threads(1));
+  const BM::Indexed_tet_mesh_3 given = BM::make_indexed_anisotropic_mesh_3(
+      domain, field,
+      BM::parameters::realizable_metric(false).meshing_report(&given_report).number_of_threads(1));
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  EXPECT_TRUE(BM::check_validity(limited, opt).is_valid());
+  EXPECT_TRUE(BM::check_validity(given, opt).is_valid());
+  std::cout << "[ measured ] 1:25 layer in a cylinder: limited " << limited.points.size() << " vertices ("
+            << limited_report.nodes[2] << " on patches), as given " << given.points.size() << " ("
+            << given_report.nodes[2] << ")\n";
+  // the wall's nodes: about 0.5 / 0.17 times as many around it
+  EXPECT_GT(limited_report.nodes[2], 1.4 * given_report.nodes[2]);
+}
+
 } // namespace
 
 // The unit cube with a crease on its top: the top is an 11 x 11 grid whose

@@ -4,6 +4,9 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Feature_size_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
+#include <CGAL/Interpolated_metric_field_3.h>
+#include <CGAL/Realizable_metric_field_3.h>
+#include <CGAL/Bubble_mesh_3/analytic_metric_fields.h>
 #include <CGAL/Surface_approximation_metric_field_3.h>
 #include <CGAL/Bubble_mesh_3/internal/surface_curvature.h>
 
@@ -533,6 +536,121 @@ TEST(FeatureSizeField, ThinPartsRefinedToTheirThickness)
   EXPECT_GT(count(-1, 0.3), 0u);
   EXPECT_LE(with_rim.statistics().thin_samples, plate.size() - count(-1, 0.3)); // all within 0.38 of the rim go
   EXPECT_GE(with_rim.statistics().thin_samples, count(0.45, 7));                 // all beyond 0.4 stay
+}
+
+
+// The principal size of `m` along the unit direction `d` (d an eigenvector).
+double size_along(const Metric_3& m, const Vector& d) { return 1 / std::sqrt(d.dot(m.matrix() * d)); }
+
+TEST(RealizableField, FramesThatDoNotTurnAreUnchanged)
+{
+  // UGAWG's linear layer: 1:100, graded along z, fixed directions
+  const CGAL::Bubble_mesh_3::Ugawg_metric linear(CGAL::Bubble_mesh_3::Ugawg_metric::linear);
+  const auto field = CGAL::make_function_metric_field_3<K>([&](const K::Point_3& p) { return linear(p); });
+  const auto realizable = CGAL::make_realizable_metric_field_3(field);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for(int i = 0; i < 200; ++i) {
+    const K::Point_3 p(u(rng), u(rng), u(rng));
+    EXPECT_EQ(realizable(p).matrix(), field(p).matrix()) << p;
+  }
+  // a constant field is returned as it is, whatever its anisotropy
+  const CGAL::Constant_metric_field_3<K> constant(
+      Metric_3::from_directions_and_sizes(Matrix::Identity(), Vector(1, 0.5, 0.01)));
+  const auto same = CGAL::make_realizable_metric_field_3(constant);
+  static_assert(std::is_same<std::decay_t<decltype(same)>, CGAL::Constant_metric_field_3<K>>::value,
+                "a constant field's frame never turns");
+  EXPECT_EQ(same(K::Point_3(0, 0, 0)).matrix(), constant.metric().matrix());
+}
+
+TEST(RealizableField, CurvedLayerGetsTangentialSizesItsChordsCanFollow)
+{
+  // UGAWG's polar-1: a 1:100 layer on the cylinder r = 0.5, tangential and
+  // axial sizes 0.1. A tangential chord of 0.1 on the wall strays
+  // 0.1^2 / (8 * 0.5) = 2.5 normal sizes from it; a chord of length h turns
+  // by h / (2 r) at its ends, so the excess there, (h^2 / (2 r h_r))^2, is
+  // at most the tolerance 0.5 for h up to about 0.027.
+  typedef CGAL::Bubble_mesh_3::Ugawg_metric Ugawg;
+  const Ugawg polar(Ugawg::polar_1);
+  const auto field = CGAL::make_function_metric_field_3<K>([&](const K::Point_3& p) { return polar(p); });
+  const CGAL::Realizable_metric_field_3<std::decay_t<decltype(field)>> realizable(field);
+  for(double angle : {0.1, 0.7, 1.3}) {
+    const Vector radial(std::cos(angle), std::sin(angle), 0), tangent(-std::sin(angle), std::cos(angle), 0),
+        axial(0, 0, 1);
+    const double r = 0.5 + 1e-4;
+    const K::Point_3 wall(r * radial[0], r * radial[1], 0.3);
+    const Metric_3 given = field(wall), limited = realizable(wall);
+    EXPECT_NEAR(size_along(given, tangent), 0.1, 1e-12);
+    const double h_tangent = size_along(limited, tangent);
+    EXPECT_GT(h_tangent, 0.02);
+    EXPECT_LT(h_tangent, 0.035);
+    // the axis does not turn, the normal size is the smallest: both kept
+    EXPECT_NEAR(size_along(limited, axial), 0.1, 1e-9);
+    EXPECT_NEAR(size_along(limited, radial), size_along(given, radial), 1e-12);
+    // the turn excess at the ends of a chord of the new size, measured
+    // directly in the given field: within the tolerance (two rounds of the
+    // fourth-root step leave it close to it)
+    double excess = 0;
+    for(int side = -1; side <= 1; side += 2) {
+      const Vector end = Vector(wall.x(), wall.y(), wall.z()) + 0.5 * side * h_tangent * tangent;
+      const Metric_3 m = field(K::Point_3(end[0], end[1], end[2]));
+      const Vector end_radial = Vector(end[0], end[1], 0).normalized();
+      const double c = end_radial.dot(tangent);
+      excess = std::max(excess, h_tangent * h_tangent * c * c * (end_radial.dot(m.matrix() * end_radial) - 100));
+    }
+    EXPECT_LT(excess, 0.75) << "angle " << angle;
+  }
+  // away from the layer the field is nearly isotropic: unchanged
+  const K::Point_3 far(0.95, 0.1, 0.5);
+  EXPECT_EQ(realizable(far).matrix(), field(far).matrix());
+  // off: the field as given
+  const CGAL::Realizable_metric_field_3<std::decay_t<decltype(field)>> off(field, false);
+  const K::Point_3 wall(0.5001, 0, 0.2);
+  EXPECT_EQ(off(wall).matrix(), field(wall).matrix());
+}
+
+TEST(RealizableField, InterpolatedFieldsAreCheckedAtTheirBackgroundVertices)
+{
+  // a background grid over a corner of polar-1's layer, and its metrics
+  typedef CGAL::Bubble_mesh_3::Ugawg_metric Ugawg;
+  const Ugawg polar(Ugawg::polar_1);
+  CGAL::Bubble_mesh_3::Indexed_tet_mesh_3 grid;
+  const int n = 6;
+  auto index = [&](int i, int j, int k) { return (i * (n + 1) + j) * (n + 1) + k; };
+  for(int i = 0; i <= n; ++i)
+    for(int j = 0; j <= n; ++j)
+      for(int k = 0; k <= n; ++k)
+        grid.points.push_back({{0.3 + 0.3 * i / n, 0.3 + 0.3 * j / n, 0.3 * k / n}});
+  for(int i = 0; i < n; ++i)
+    for(int j = 0; j < n; ++j)
+      for(int k = 0; k < n; ++k) {
+        // six tets around the cube's diagonal
+        const int c[8] = {index(i, j, k),         index(i + 1, j, k),         index(i + 1, j + 1, k),
+                          index(i, j + 1, k),     index(i, j, k + 1),         index(i + 1, j, k + 1),
+                          index(i + 1, j + 1, k + 1), index(i, j + 1, k + 1)};
+        const int six[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
+        for(const auto& t : six)
+          grid.tets.push_back({{c[t[0]], c[t[1]], c[t[2]], c[t[3]]}});
+      }
+  std::vector<Metric_3> metrics;
+  for(const auto& p : grid.points)
+    metrics.push_back(polar(K::Point_3(p[0], p[1], p[2])));
+  const CGAL::Interpolated_metric_field_3<K> field(grid, metrics, "grid");
+  const auto realizable = CGAL::make_realizable_metric_field_3(field);
+  static_assert(std::is_same<std::decay_t<decltype(realizable)>, CGAL::Interpolated_metric_field_3<K>>::value,
+                "an interpolated field stays one");
+  const CGAL::Realizable_metric_field_3<CGAL::Interpolated_metric_field_3<K>> checked(field);
+  int limited = 0;
+  for(std::size_t v = 0; v < grid.points.size(); ++v) {
+    const K::Point_3 p = field.point_at_vertex(v);
+    EXPECT_EQ(realizable(p).matrix(), checked(p).matrix()) << "vertex " << v;
+    limited += realizable(p).matrix() != field(p).matrix();
+  }
+  EXPECT_GT(limited, 0); // the vertices near the wall
+  EXPECT_LT(limited, int(grid.points.size()));
+  // off: the field itself
+  const auto off = CGAL::make_realizable_metric_field_3(field, false);
+  EXPECT_EQ(off(K::Point_3(0.36, 0.36, 0.1)).matrix(), field(K::Point_3(0.36, 0.36, 0.1)).matrix());
 }
 
 } // namespace

@@ -43,6 +43,7 @@ enum surface_distance_t { surface_distance };
 enum feature_angle_t { feature_angle };
 enum minimum_feature_length_t { minimum_feature_length };
 enum small_feature_refinement_t { small_feature_refinement };
+enum realizable_metric_t { realizable_metric };
 enum progress_messages_t { progress_messages };
 // the improver's (improve_mesh(), improve_anisotropic_mesh_3())
 enum target_angle_t { target_angle };
@@ -90,6 +91,7 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, feature_angle)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, minimum_feature_length)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, small_feature_refinement)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, realizable_metric)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, progress_messages)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, target_angle)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, flips)
@@ -146,6 +148,9 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, minimum_feature_length)
 /// refine the metric where the domain's corners and feature curves are closer than its sizes (default true;
 /// `CGAL::Feature_size_metric_field_3`)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, small_feature_refinement)
+/// reduce the metric's large sizes where its frame turns faster than straight edges of those sizes can follow
+/// (default true; `CGAL::Realizable_metric_field_3`)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, realizable_metric)
 /// a `std::function<void(const std::string&)>` receiving a line per stage (nodes, tets, seconds)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, progress_messages)
 /// `improve_mesh()`: tets whose metric minimum dihedral angle (degrees) is below this are worked on (default 40)

@@ -6,7 +6,8 @@
 #define CGAL_BUBBLE_MESH_3_INTERNAL_PIPELINE_METRIC_STAGE_H
 
 // Stage 0 of the pipeline: the field the later stages mesh. The user's
-// metric, intersected near the surface with the curvature sizes of the
+// metric with its large sizes reduced where its frame turns too fast for them
+// (unless turned off), intersected near the surface with the curvature sizes of the
 // surface-distance bound (if any), refined where corners and curves are
 // closer than its sizes (unless turned off). It is always a
 // `Feature_size_metric_field_3`, so the stages are instantiated once; a field
@@ -15,6 +16,7 @@
 #include <CGAL/Bubble_mesh_3/Meshing_report.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/run_control.h>
 #include <CGAL/Feature_size_metric_field_3.h>
+#include <CGAL/Realizable_metric_field_3.h>
 #include <CGAL/Surface_approximation_metric_field_3.h>
 
 #include <chrono>
@@ -81,7 +83,8 @@ auto with_prepared_metric(const MeshDomain& domain, const MetricField& field, co
   } else {
     // without a bound the field passes the user's metric through
     const auto t0 = std::chrono::steady_clock::now();
-    const auto approximating = CGAL::make_surface_approximation_metric_field_3(domain, field, s.surface_distance);
+    const auto realizable = CGAL::make_realizable_metric_field_3(field, s.realizable_metric);
+    const auto approximating = CGAL::make_surface_approximation_metric_field_3(domain, realizable, s.surface_distance);
     rep.surface_distance_bound = approximating.bounded() ? approximating.distance() : 0;
     rep.surface_metric_seconds = seconds_since(t0);
     if(approximating.bounded())

@@ -55,6 +55,8 @@ struct Meshing_settings {
   double surface_distance = 0;
   /// refine the metric where corners and curves are closer than its sizes
   bool small_feature_refinement = true;
+  /// reduce the large sizes where the metric's frame turns too fast for them
+  bool realizable_metric = true;
 };
 
 template <typename NP>
@@ -84,6 +86,7 @@ Meshing_settings resolve_settings(const NP& np)
   if(std::isnan(s.surface_distance))
     throw Invalid_input("surface_distance: not a number");
   s.small_feature_refinement = choose_parameter(get_parameter(np, BNP::small_feature_refinement), true);
+  s.realizable_metric = choose_parameter(get_parameter(np, BNP::realizable_metric), true);
   return s;
 }
 
