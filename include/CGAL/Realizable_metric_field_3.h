@@ -183,7 +183,8 @@ Constant_metric_field_3<K> make_realizable_metric_field_3(const Constant_metric_
 /// For a field interpolated from a background mesh, the check is done once
 /// per background vertex and the results are interpolated: the field at the
 /// background's resolution, at the cost of the given one per query
-/// (checking at every query costs up to nine interpolations). With
+/// (checking at every query costs five interpolations where the field is
+/// anisotropic). With
 /// `enabled` false: `field` itself.
 template <typename K>
 Interpolated_metric_field_3<K> make_realizable_metric_field_3(const Interpolated_metric_field_3<K>& field,
