@@ -577,6 +577,9 @@ int run_mesh(int argc, char** argv)
                                          " element(s) (" + std::to_string(f.dropped_edges) + " of " +
                                          std::to_string(f.sharp_edges) + " sharp edges)"
                                    : std::string()) +
+             (f.replaced_faces > 0 ? "; flipped or collapsed " + std::to_string(f.replaced_faces) +
+                                         " sliver triangles narrower than a tenth of an element"
+                                   : std::string()) +
              (f.merged_patches > 0 ? "; merged " + std::to_string(f.merged_patches) +
                                          " patches narrower than a tenth of an element into a neighbour (" +
                                          std::to_string(f.merged_edges) + " sharp edges no longer sharp)"

@@ -672,7 +672,12 @@ TEST(DetectFeatures, DropsShortCreasesWithAFreeEndOnly)
   EXPECT_EQ(coarse.report.curves, 12u);
   EXPECT_EQ(coarse.report.corners, 8u);
   EXPECT_EQ(coarse.report.patches, 6u);
-  EXPECT_EQ(coarse.report.sharp_edges, all.report.sharp_edges);
+  { // every sharp edge is in a curve or dropped (the sides' needles, 0.1 by 1, are collapsed first: fewer edges)
+    std::size_t in_curves = 0;
+    for(const auto& line : coarse.polylines)
+      in_curves += line.size() - 1;
+    EXPECT_EQ(coarse.report.sharp_edges, in_curves + coarse.report.dropped_edges);
+  }
   // much coarser: the cube's edges are shorter than an element too, but they
   // have no free end
   EXPECT_EQ(detect(10, 1, p).report.curves, 12u);
@@ -731,7 +736,7 @@ std::string chamfered_box_off(double c)
   return o.str();
 }
 
-TEST(DetectFeatures, MergesPatchesNarrowerThanATenthOfAnElement)
+TEST(DetectFeatures, RemovesStripsNarrowerThanATenthOfAnElement)
 {
   const double c = 0.005; // the strip is 0.0071 wide
   auto detect = [&](double h, double min_length, Polyhedron& p) {
@@ -746,13 +751,15 @@ TEST(DetectFeatures, MergesPatchesNarrowerThanATenthOfAnElement)
   EXPECT_EQ(all.report.patches, 7u);
   EXPECT_EQ(all.report.merged_patches, 0u);
   EXPECT_EQ(all.report.corners, 10u);
-  // at 0.3 the strip is below a tenth of an element: merged into one of the
-  // two sides, whose edge with the strip is no longer sharp
+  // at 0.3 the strip is below a tenth of an element: its two triangles are
+  // needles whose short edges are collapsed (the surface moves by less than
+  // the strip's width), leaving a box with one wall slightly turned
   const auto merged = detect(0.3, 1, p);
   std::cout << "chamfer, merged: " << BM::to_json(merged.report) << "\n";
-  EXPECT_EQ(merged.report.merged_patches, 1u);
-  EXPECT_EQ(merged.report.merged_edges, 1u); // the strip's long edge
+  EXPECT_GE(merged.report.replaced_faces, 2u);
+  EXPECT_EQ(merged.report.merged_patches, 0u);
   EXPECT_EQ(merged.report.patches, 6u);
+  EXPECT_EQ(merged.report.curves, 12u);
   EXPECT_EQ(merged.report.corners, 8u);
   {
     std::set<int> ids;
@@ -762,12 +769,13 @@ TEST(DetectFeatures, MergesPatchesNarrowerThanATenthOfAnElement)
   }
   // at 0.05 the strip is wider than a tenth: kept
   const auto fine = detect(0.05, 1, p);
+  EXPECT_EQ(fine.report.replaced_faces, 0u);
   EXPECT_EQ(fine.report.merged_patches, 0u);
   EXPECT_EQ(fine.report.patches, 7u);
   // at 5 every face is narrower than a tenth of an element, but only the
-  // strip is narrow against its neighbours: the part's faces stay
+  // strip's are needles: the part's faces stay
   const auto coarse = detect(5, 1, p);
-  EXPECT_EQ(coarse.report.merged_patches, 1u);
+  EXPECT_GE(coarse.report.replaced_faces, 2u);
   EXPECT_EQ(coarse.report.patches, 6u);
   EXPECT_EQ(coarse.report.curves, 12u);
 
@@ -785,9 +793,9 @@ TEST(DetectFeatures, MergesPatchesNarrowerThanATenthOfAnElement)
     BM::Validity_options opt;
     opt.require_outward_triangles = true;
     opt.expected_volume = 1 - c * c / 2;
-    // merged, the triangles across the strip cut off up to c h / 2
+    // with the strip removed, the volume of the box it leaves
     if(min_length > 0)
-      opt.expected_volume_relative_tolerance = c * 0.3;
+      opt.expected_volume_relative_tolerance = c; // the corner cut off by the collapse: c (1 - c) / 2
     const BM::Validity_report v = BM::check_validity(m, opt);
     if(!v.is_valid())
       BM::print_validity_summary(std::cerr, v);
@@ -799,6 +807,111 @@ TEST(DetectFeatures, MergesPatchesNarrowerThanATenthOfAnElement)
             << " deg merged\n";
   EXPECT_GT(without, 20.0);
   EXPECT_GT(without, with_strip + 5);
+}
+
+// Two blocks, the upper one set back by `e` from the lower one's wall x = 2:
+// [0,2]x[0,2]x[0,1] and [0,2-e]x[0,1]x[1,2]. The lower block's top reaches
+// past the upper wall in a strip e wide (a tongue of the top's patch, not a
+// patch of its own) between two sharp curves e apart, and the curve on the
+// wall y = 0 jogs by e where it crosses it: the step a CAD export leaves
+// where two walls nearly meet.
+std::string stepped_blocks_off(double e)
+{
+  const double a = 2 - e;
+  const double v[15][3] = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0, 1}, {2, 0, 1}, {2, 2, 1}, {0, 2, 1},
+                           {a, 0, 1}, {0, 1, 1}, {a, 1, 1}, {0, 0, 2}, {a, 0, 2}, {a, 1, 2}, {0, 1, 2}};
+  const int t[26][3] = {{0, 3, 2},   {0, 2, 1},  {1, 2, 6},  {1, 6, 5},   {2, 3, 7},  {2, 7, 6},   {8, 5, 10},
+                        {5, 6, 10},  {10, 6, 7}, {10, 7, 9}, {8, 10, 13}, {8, 13, 12}, {10, 9, 14}, {10, 14, 13},
+                        {11, 12, 13}, {11, 13, 14}, {0, 4, 9}, {0, 9, 7},  {0, 7, 3},   {4, 11, 14}, {4, 14, 9},
+                        {0, 1, 5},   {0, 5, 8},  {0, 8, 4},  {4, 8, 12},  {4, 12, 11}};
+  std::ostringstream o;
+  o.precision(17);
+  o << "OFF\n15 26 0\n";
+  for(const auto& p : v)
+    o << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  for(const auto& f : t)
+    o << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+  return o.str();
+}
+
+TEST(DetectFeatures, StepNarrowerThanATenthOfAnElementIsRemoved)
+{
+  const double e = 0.003;
+  auto detect = [&](double h, double min_length, Polyhedron& p) {
+    p = from_off(stepped_blocks_off(e));
+    return BM::detect_features(p, CGAL::Constant_metric_field_3<K>(Metric::isotropic(h)),
+                               BM::parameters::minimum_feature_length(min_length));
+  };
+  // the polylines with a point strictly inside the box around the strip's
+  // middle (x in [1.9, 2.1], y in [0.3, 0.7], z in [0.9, 1.1])
+  auto crossing_strip = [](const auto& features) {
+    std::size_t n = 0;
+    for(const auto& line : features.polylines)
+      for(std::size_t i = 0; i + 1 < line.size(); ++i) {
+        bool in = false;
+        for(double t = 0; t <= 1; t += 1.0 / 64) {
+          const auto q = line[i] + (line[i + 1] - line[i]) * t;
+          in = in || (q.x() > 1.9 && q.x() < 2.1 && q.y() > 0.3 && q.y() < 0.7 && q.z() > 0.9 && q.z() < 1.1);
+        }
+        if(in) {
+          ++n;
+          break;
+        }
+      }
+    return n;
+  };
+  auto corners_near_step = [&](const auto& features) { // curve ends within 0.05 of (2, 0, 1)
+    std::set<std::array<double, 3>> ends;
+    for(const auto& line : features.polylines)
+      for(const auto& q : {line.front(), line.back()})
+        if(line.front() != line.back() && CGAL::squared_distance(q, K::Point_3(2, 0, 1)) < 0.05 * 0.05)
+          ends.insert({{q.x(), q.y(), q.z()}});
+    return ends.size();
+  };
+  Polyhedron p;
+  // CGAL's features: two curves e apart along the strip, two corners e apart
+  const auto all = detect(0.3, 0, p);
+  std::cout << "step, all: " << BM::to_json(all.report) << "\n";
+  EXPECT_EQ(crossing_strip(all), 2u);
+  EXPECT_EQ(corners_near_step(all), 2u);
+  // at 0.3 the step is below a tenth of an element: its sliver triangles are
+  // flipped or collapsed away, the two walls join, and at most one corner is
+  // left near the jog
+  const auto cleaned = detect(0.3, 1, p);
+  std::cout << "step, cleaned: " << BM::to_json(cleaned.report) << "\n";
+  EXPECT_GT(cleaned.report.replaced_faces, 0u);
+  EXPECT_EQ(crossing_strip(cleaned), 0u); // the walls x = 2 and x = 2 - e are one patch
+  EXPECT_LE(corners_near_step(cleaned), 1u);
+  // at 0.02 it is above: as CGAL's
+  const auto fine = detect(0.02, 1, p);
+  EXPECT_EQ(fine.report.replaced_faces, 0u);
+  EXPECT_EQ(crossing_strip(fine), 2u);
+  EXPECT_EQ(corners_near_step(fine), 2u);
+
+  // meshed at 0.3: valid, the volume of the blocks, no needles at the step
+  auto mesh = [&](double min_length) {
+    Polyhedron q;
+    const auto features = detect(0.3, min_length, q);
+    Domain domain(q);
+    features.add_to(domain);
+    const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.3));
+    const BM::Indexed_tet_mesh_3 m =
+        BM::make_indexed_anisotropic_mesh_3(domain, field, BM::parameters::number_of_threads(1).random_seed(1u));
+    BM::Validity_options opt;
+    opt.require_outward_triangles = true;
+    opt.expected_volume = 4 + (2 - e);
+    opt.expected_volume_relative_tolerance = e; // the step removed
+    const BM::Validity_report v = BM::check_validity(m, opt);
+    if(!v.is_valid())
+      BM::print_validity_summary(std::cerr, v);
+    EXPECT_TRUE(v.is_valid());
+    return BM::compute_quality_report(m, field).min_dihedral.worst;
+  };
+  const double with_step = mesh(0), cleaned_worst = mesh(1);
+  std::cout << "stepped blocks at 0.3: worst " << with_step << " deg with the step's curves, " << cleaned_worst
+            << " deg cleaned\n";
+  EXPECT_GT(cleaned_worst, 20.0);
+  EXPECT_GT(cleaned_worst, with_step + 5);
 }
 
 // A Polyhedron_3 descriptor compares by address: features walked in a

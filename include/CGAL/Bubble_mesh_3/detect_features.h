@@ -12,8 +12,10 @@
 // end (a crease that fades out into its patch) separates nothing: dropping it
 // leaves every patch as it was. Dropping those shorter than one element
 // (measured in the metric) keeps every feature the mesh can represent. For
-// the same reason a patch narrower than a tenth of an element (a chamfer
-// strip, a sliver facet) joins a neighbour.
+// the same reason the sliver triangles along sharp edges below a tenth of an
+// element are flipped or collapsed away first (the zigzag or ledge a CAD
+// export leaves where two walls nearly meet), and a patch narrower than that
+// (a chamfer strip, a fold of a scan) joins a neighbour.
 #ifndef CGAL_BUBBLE_MESH_3_DETECT_FEATURES_H
 #define CGAL_BUBBLE_MESH_3_DETECT_FEATURES_H
 
@@ -21,6 +23,9 @@
 #include <CGAL/Bubble_mesh_3/internal/json.h>
 #include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/property_map.h>
 
 #include <algorithm>
@@ -49,6 +54,7 @@ struct Feature_detection_report {
   std::size_t patches = 0;        ///< surface patches (after the merging; unchanged by the dropping)
   std::size_t merged_patches = 0; ///< patches narrower than a tenth of an element, merged into a neighbour
   std::size_t merged_edges = 0;   ///< sharp edges between merged patches (no longer sharp)
+  std::size_t replaced_faces = 0; ///< input faces flipped or collapsed away as slivers below the resolution
 };
 
 /// the report as a JSON object (keys as the member names)
@@ -58,7 +64,8 @@ inline std::string to_json(const Feature_detection_report& r)
   return "{\"sharp_edges\": " + num(r.sharp_edges) + ", \"dropped_chains\": " + num(r.dropped_chains) +
          ", \"dropped_edges\": " + num(r.dropped_edges) + ", \"curves\": " + num(r.curves) +
          ", \"corners\": " + num(r.corners) + ", \"patches\": " + num(r.patches) +
-         ", \"merged_patches\": " + num(r.merged_patches) + ", \"merged_edges\": " + num(r.merged_edges) + "}";
+         ", \"merged_patches\": " + num(r.merged_patches) + ", \"merged_edges\": " + num(r.merged_edges) +
+         ", \"replaced_faces\": " + num(r.replaced_faces) + "}";
 }
 
 /// The feature curves of a polyhedron, with the surface patches each one
@@ -101,6 +108,128 @@ namespace internal {
 constexpr double narrow_patch_fraction() { return 0.1; }
 /// how much wider than a narrow patch the neighbour it joins must be
 constexpr double wider_neighbour_ratio() { return 4; }
+
+/// A face with an angle above this (degrees) is a cap: flipped away when its
+/// height is below the resolution (`remove_sliver_faces()`)
+constexpr double sliver_cap_angle() { return 175; }
+/// A face whose longest edge is this many times its shortest is a needle:
+/// its shortest edge is collapsed when below the resolution
+constexpr double sliver_needle_ratio() { return 10; }
+
+/// Flips away the caps and collapses the needles along the sharp edges (at
+/// `feature_angle`, degrees) of the input surface whose height or shortest
+/// edge is below `narrow_patch_fraction()` of the
+/// largest size `metric` asks (the smallest such size over the vertices), as
+/// `Polygon_mesh_processing::experimental::remove_almost_degenerate_faces()`
+/// does: the sliver facets a CAD export leaves where two walls nearly meet
+/// (a zigzag of sharp edges a few thousandths apart along their corner, a
+/// ledge as narrow) put curves and corners closer than the feature sizes go,
+/// so the tets between them are flat; without them the surface moves by less
+/// than that resolution. Kept as it was if the result intersects itself.
+/// Returns the number of input faces no longer in the surface.
+template <typename Polyhedron, typename MetricField>
+std::size_t remove_sliver_faces(Polyhedron& polyhedron, const MetricField& metric, double feature_angle)
+{
+  typedef typename boost::property_traits<typename boost::property_map<Polyhedron, vertex_point_t>::type>::value_type
+      Point_3;
+  auto vpm = get(vertex_point, polyhedron);
+  double smallest = std::numeric_limits<double>::infinity();
+  for(auto v : vertices(polyhedron))
+    smallest = std::min(smallest, metric(get(vpm, v)).principal_sizes().maxCoeff());
+  const double resolution = narrow_patch_fraction() * smallest;
+  if(!(resolution > 0) || !std::isfinite(resolution))
+    return 0;
+  // each face as the sorted triple of its corners' coordinates
+  typedef std::array<std::array<double, 3>, 3> Face_key;
+  auto face_keys = [&] {
+    std::vector<Face_key> keys;
+    keys.reserve(num_faces(polyhedron));
+    for(auto f : faces(polyhedron)) {
+      Face_key key;
+      std::size_t i = 0;
+      for(auto v : vertices_around_face(halfedge(f, polyhedron), polyhedron)) {
+        const Point_3& p = get(vpm, v);
+        if(i < 3)
+          key[i] = {{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}};
+        ++i;
+      }
+      std::sort(key.begin(), key.end());
+      keys.push_back(key);
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+  };
+  const std::vector<Face_key> before = face_keys();
+  const Polyhedron original = polyhedron;
+  // only the faces along sharp edges: a sliver in a smooth region is no
+  // feature, and flipping it could make a crease
+  typedef typename boost::graph_traits<Polyhedron>::vertex_descriptor vertex_descriptor;
+  typedef typename boost::graph_traits<Polyhedron>::halfedge_descriptor halfedge_descriptor;
+  std::vector<typename boost::graph_traits<Polyhedron>::face_descriptor> along_sharp_edges;
+  const double cos_angle = std::cos(feature_angle * CGAL_PI / 180);
+  auto sharp = [&](halfedge_descriptor h) {
+    const auto n = CGAL::Polygon_mesh_processing::compute_face_normal(face(h, polyhedron), polyhedron);
+    const auto m = CGAL::Polygon_mesh_processing::compute_face_normal(face(opposite(h, polyhedron), polyhedron),
+                                                                      polyhedron);
+    return CGAL::to_double(n * m) < cos_angle;
+  };
+  for(auto f : faces(polyhedron))
+    for(halfedge_descriptor h : halfedges_around_face(halfedge(f, polyhedron), polyhedron))
+      if(sharp(h)) {
+        along_sharp_edges.push_back(f);
+        break;
+      }
+  if(along_sharp_edges.empty())
+    return 0;
+  // Only what is below the resolution moves: a vertex inside a smooth sharp
+  // curve (two sharp edges turning by less than 30 degrees: a finely cut rim)
+  // stays, or collapsing its short edges would coarsen the curve, cascading
+  // along it; so does a corner (any other vertex on sharp edges) unless a
+  // sharp edge shorter than the resolution joins it to another corner (a jog
+  // of a zigzag, a ledge's end)
+  std::set<vertex_descriptor> on_smooth_curves, corners, constrained;
+  std::map<vertex_descriptor, std::vector<halfedge_descriptor>> sharp_out;
+  for(vertex_descriptor v : vertices(polyhedron)) {
+    std::vector<halfedge_descriptor>& out = sharp_out[v];
+    for(halfedge_descriptor h : halfedges_around_source(v, polyhedron))
+      if(sharp(h))
+        out.push_back(h);
+    if(out.empty())
+      continue;
+    bool smooth = false;
+    if(out.size() == 2) {
+      const auto a = get(vpm, target(out[0], polyhedron)) - get(vpm, v),
+                 b = get(vpm, target(out[1], polyhedron)) - get(vpm, v);
+      const double ab = std::sqrt(CGAL::to_double(a * a) * CGAL::to_double(b * b));
+      smooth = ab > 0 && CGAL::to_double(a * b) < -std::cos(30 * CGAL_PI / 180) * ab;
+    }
+    (smooth ? on_smooth_curves : corners).insert(v);
+  }
+  constrained = on_smooth_curves;
+  for(vertex_descriptor v : corners) {
+    bool jog = false;
+    for(halfedge_descriptor h : sharp_out[v])
+      jog = jog || (corners.count(target(h, polyhedron)) &&
+                    CGAL::to_double(CGAL::squared_distance(get(vpm, v), get(vpm, target(h, polyhedron)))) <
+                        resolution * resolution);
+    if(!jog)
+      constrained.insert(v);
+  }
+  CGAL::Polygon_mesh_processing::experimental::remove_almost_degenerate_faces(
+      along_sharp_edges, polyhedron, std::cos(sliver_cap_angle() * CGAL_PI / 180), sliver_needle_ratio(), resolution,
+      CGAL::parameters::flip_triangle_height_threshold(resolution)
+          .vertex_is_constrained_map(CGAL::make_boolean_property_map(constrained)));
+  const std::vector<Face_key> after = face_keys();
+  std::vector<Face_key> gone;
+  std::set_difference(before.begin(), before.end(), after.begin(), after.end(), std::back_inserter(gone));
+  if(gone.empty())
+    return 0;
+  if(CGAL::Polygon_mesh_processing::does_self_intersect(polyhedron)) {
+    polyhedron = original;
+    return 0;
+  }
+  return gone.size();
+}
 
 /// Merges every surface patch narrower than `narrow_patch_fraction()` of the
 /// largest size `metric` asks on it into the neighbour it meets at the
@@ -292,7 +421,16 @@ std::size_t merge_narrow_patches(Polyhedron& polyhedron, const MetricField& metr
 /// left with a free end by the removal of its branches is tested in turn).
 /// Such a chain borders the same patch on both sides, so patches do not
 /// change; chains between corners where three or more chains meet and closed
-/// chains are always kept. Before that, every patch narrower than a tenth of
+/// chains are always kept. First, the sliver triangles along sharp edges
+/// whose height (a cap: an angle above 175 degrees) or shortest edge (a
+/// needle: 10 times shorter than its longest) is below a tenth of the
+/// smallest of the largest sizes the metric asks are flipped or collapsed
+/// away (`Polygon_mesh_processing::experimental::remove_almost_degenerate_faces()`;
+/// vertices inside smooth curves and corners stay, except corners joined to
+/// another by a sharp edge below that resolution; the polyhedron changes,
+/// by less than that; kept as it was if the result would intersect itself): the zigzag of sliver facets a CAD export leaves
+/// along the corner of two walls, a ledge as narrow, put curves and corners
+/// closer than the feature sizes go. Then every patch narrower than a tenth of
 /// the largest size the metric asks on it (2 area / perimeter: a chamfer
 /// strip, a sliver facet) is merged into the neighbour it meets at the
 /// gentlest turn (the sharp edges between them are un-marked): its curves
@@ -312,7 +450,7 @@ std::size_t merge_narrow_patches(Polyhedron& polyhedron, const MetricField& metr
 /// \param np optional named parameters: `feature_angle` (degrees, default 60,
 ///   as CGAL's), `minimum_feature_length` (metric length below which a chain
 ///   with a free end is dropped; default 1, one element; 0 keeps everything,
-///   narrow patches too, which is CGAL's `detect_features()`)
+///   slivers and narrow patches too, which is CGAL's `detect_features()`)
 /// \throws Invalid_input if the angle is not in [0, 180] or the length is
 ///   negative or not a number
 template <typename Polyhedron, typename MetricField, typename NamedParameters = CGAL::parameters::Default_named_parameters>
@@ -343,6 +481,10 @@ detect_features(Polyhedron& polyhedron, const MetricField& metric,
   auto vip = get(CGAL::vertex_incident_patches_t<Patch_id>(), polyhedron);
 
   Detected_features<Point_3> out;
+  // sliver facets below the resolution meshed go first: the patches and
+  // curves are those of the surface meshed
+  if(min_length > 0)
+    out.report.replaced_faces = internal::remove_sliver_faces(polyhedron, metric, angle);
   // patch ids from 1, as CGAL numbers them (0 would read as "no patch")
   out.report.patches = CGAL::Polygon_mesh_processing::sharp_edges_segmentation(
       polyhedron, angle, eif, pid,
