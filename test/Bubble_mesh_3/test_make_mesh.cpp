@@ -736,6 +736,28 @@ std::string chamfered_box_off(double c)
   return o.str();
 }
 
+// Meshes `q` with its detected `features` at the isotropic size `h`; expects
+// a valid mesh with outward boundary of `volume` (to `tolerance`, relative)
+// and returns its worst dihedral angle.
+template <typename Features>
+double valid_mesh_worst_angle(Polyhedron& q, const Features& features, double h, double volume, double tolerance)
+{
+  Domain domain(q);
+  features.add_to(domain);
+  const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(h));
+  const BM::Indexed_tet_mesh_3 m =
+      BM::make_indexed_anisotropic_mesh_3(domain, field, BM::parameters::number_of_threads(1).random_seed(1u));
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  opt.expected_volume = volume;
+  opt.expected_volume_relative_tolerance = tolerance;
+  const BM::Validity_report v = BM::check_validity(m, opt);
+  if(!v.is_valid())
+    BM::print_validity_summary(std::cerr, v);
+  EXPECT_TRUE(v.is_valid());
+  return BM::compute_quality_report(m, field).min_dihedral.worst;
+}
+
 TEST(DetectFeatures, RemovesStripsNarrowerThanATenthOfAnElement)
 {
   const double c = 0.005; // the strip is 0.0071 wide
@@ -782,25 +804,12 @@ TEST(DetectFeatures, RemovesStripsNarrowerThanATenthOfAnElement)
   // meshing the merged domain: valid, the volume of the chamfered cube, no
   // flat tets at the strip; with the strip kept (CGAL's features) its two
   // curves are 0.007 apart at a size of 0.3 and the tets there are needles
+  // with the strip removed, the volume of the box it leaves: the corner cut
+  // off by the collapse is c (1 - c) / 2
   auto mesh = [&](double min_length) {
     Polyhedron q;
     const auto features = detect(0.3, min_length, q);
-    Domain domain(q);
-    features.add_to(domain);
-    const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.3));
-    const BM::Indexed_tet_mesh_3 m =
-        BM::make_indexed_anisotropic_mesh_3(domain, field, BM::parameters::number_of_threads(1).random_seed(1u));
-    BM::Validity_options opt;
-    opt.require_outward_triangles = true;
-    opt.expected_volume = 1 - c * c / 2;
-    // with the strip removed, the volume of the box it leaves
-    if(min_length > 0)
-      opt.expected_volume_relative_tolerance = c; // the corner cut off by the collapse: c (1 - c) / 2
-    const BM::Validity_report v = BM::check_validity(m, opt);
-    if(!v.is_valid())
-      BM::print_validity_summary(std::cerr, v);
-    EXPECT_TRUE(v.is_valid());
-    return BM::compute_quality_report(m, field).min_dihedral.worst;
+    return valid_mesh_worst_angle(q, features, 0.3, 1 - c * c / 2, min_length > 0 ? c : 1e-6);
   };
   const double with_strip = mesh(0), without = mesh(1);
   std::cout << "chamfered cube at 0.3: worst " << with_strip << " deg with the strip, " << without
@@ -888,24 +897,12 @@ TEST(DetectFeatures, StepNarrowerThanATenthOfAnElementIsRemoved)
   EXPECT_EQ(crossing_strip(fine), 2u);
   EXPECT_EQ(corners_near_step(fine), 2u);
 
-  // meshed at 0.3: valid, the volume of the blocks, no needles at the step
+  // meshed at 0.3: valid, the volume of the blocks (the step removed: within
+  // e), no needles at the step
   auto mesh = [&](double min_length) {
     Polyhedron q;
     const auto features = detect(0.3, min_length, q);
-    Domain domain(q);
-    features.add_to(domain);
-    const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.3));
-    const BM::Indexed_tet_mesh_3 m =
-        BM::make_indexed_anisotropic_mesh_3(domain, field, BM::parameters::number_of_threads(1).random_seed(1u));
-    BM::Validity_options opt;
-    opt.require_outward_triangles = true;
-    opt.expected_volume = 4 + (2 - e);
-    opt.expected_volume_relative_tolerance = e; // the step removed
-    const BM::Validity_report v = BM::check_validity(m, opt);
-    if(!v.is_valid())
-      BM::print_validity_summary(std::cerr, v);
-    EXPECT_TRUE(v.is_valid());
-    return BM::compute_quality_report(m, field).min_dihedral.worst;
+    return valid_mesh_worst_angle(q, features, 0.3, 4 + (2 - e), e);
   };
   const double with_step = mesh(0), cleaned_worst = mesh(1);
   std::cout << "stepped blocks at 0.3: worst " << with_step << " deg with the step's curves, " << cleaned_worst
