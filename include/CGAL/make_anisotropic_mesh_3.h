@@ -160,7 +160,9 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///   \cgalParamNBegin{surface_distance} \cgalParamDescription{bound D on the distance of the boundary
 ///     triangles to the input surface: near the surface the metric is intersected with sizes sqrt(3 D / |k|)
 ///     along the principal curvature directions (`CGAL::Surface_approximation_metric_field_3`), so curved
-///     parts get the nodes they need; negative: the bounding box diagonal times
+///     parts get the nodes they need, and the improvement splits the boundary edges of the triangles that
+///     still stray farther (`Bubble_mesh_3::Improvement_options::surface_distance`; the report counts the
+///     splits and the triangles left beyond D); negative: the bounding box diagonal times
 ///     `Bubble_mesh_3::default_relative_surface_distance` (1/200); 0 or infinity: the metric as given. Off by
 ///     default for now: on organic inputs at coarse sizes it multiplies the node count (armadillo at diag/10,
 ///     measured with a first version of the field: 306 to 9,616 vertices, volume error 35 % to 0.9 %) and the

@@ -385,6 +385,10 @@ expect surface-distance-0.005 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/
 check "surface distance 0.005: bound reported" near "$(json_value "$ext/sd.json" surface_distance_bound)" 0.005 1e-12
 check "surface distance 0.005: boundary within it" awk -v d="$(json_value "$ext/sd.json" surface_distance)" \
   'BEGIN { exit !(d != "" && d <= 0.005) }'
+check "surface distance 0.005: no boundary triangle left beyond it by the improvement" \
+  [ "$(json_value "$ext/sd.json" triangles_beyond_distance)" = "0" ]
+check "surface distance 0.005: the report counts the splits made for it" \
+  grep -qE '"distance_splits": [0-9]+' "$ext/sd.json"
 expect surface-distance-off 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/sdoff.mesh" --size 0.25 \
   --surface-distance off --report "$ext/sdoff.json" --threads 1 --quiet
 check "surface distance off: no bound" [ "$(json_value "$ext/sdoff.json" surface_distance_bound)" = "0" ]

@@ -1005,6 +1005,75 @@ TEST(ImproveMesh, CurvedBoundaryFlipsOnASphere)
               r.worst_before, r.worst_after, r_kept.worst_after, r.boundary_flips);
 }
 
+// the largest distance to the unit sphere of the points of a barycentric
+// grid of 20 steps per edge on the boundary triangles (finer than the
+// improver's own sampling, so this measures it rather than repeats it)
+double largest_distance_to_unit_sphere(const BM::Indexed_tet_mesh_3& mesh)
+{
+  double d = 0;
+  for(const auto& t : mesh.triangles) {
+    const V3 p[3] = {V3(mesh.points[std::size_t(t[0])].data()), V3(mesh.points[std::size_t(t[1])].data()),
+                     V3(mesh.points[std::size_t(t[2])].data())};
+    for(int i = 0; i <= 20; ++i)
+      for(int j = 0; i + j <= 20; ++j) {
+        const V3 x = (i * p[0] + j * p[1] + (20 - i - j) * p[2]) / 20.0;
+        d = std::max(d, std::abs(1 - x.norm()));
+      }
+  }
+  return d;
+}
+
+TEST(ImproveMesh, SurfaceDistanceBoundSplitsStrayingChords)
+{
+  // the sphere mesh's chords stray up to about 0.02 from the sphere; with a
+  // bound of 0.008 the boundary edges are split onto the sphere until every
+  // triangle is within it (by a finer sampling than the improver's, to 5 %),
+  // the mesh stays valid, its boundary vertices stay on the sphere, and the
+  // volume comes closer to the ball's
+  const std::vector<V3> points = sphere_and_interior_points();
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(points);
+  CGAL::Constant_metric_field_3<K> field(BM::Metric_3::isotropic(0.2));
+  BM::Improvement_options o = deterministic();
+  o.surface_projection = [](int, const std::array<double, 3>& p, std::array<double, 3>& q) {
+    const V3 x = V3(p[0], p[1], p[2]).normalized();
+    q = {{x[0], x[1], x[2]}};
+    return true;
+  };
+  const double bound = 0.008;
+  BM::Indexed_tet_mesh_3 unbounded = input;
+  const BM::Improvement_report r0 = BM::improve_mesh(unbounded, field, o);
+  const double d0 = largest_distance_to_unit_sphere(unbounded);
+  ASSERT_GT(d0, 2 * bound) << "the test needs chords beyond the bound without it";
+  EXPECT_EQ(r0.distance_splits, 0u);
+
+  o.surface_distance = bound;
+  BM::Indexed_tet_mesh_3 mesh = input;
+  const BM::Improvement_report r = BM::improve_mesh(mesh, field, o);
+  expect_valid_with_outward_triangles(mesh);
+  const double d = largest_distance_to_unit_sphere(mesh);
+  EXPECT_GT(r.distance_splits, 0u);
+  EXPECT_EQ(r.triangles_beyond_distance, 0u);
+  EXPECT_LE(r.largest_surface_distance, bound);
+  EXPECT_LE(d, 1.05 * bound);
+  EXPECT_GT(mesh.points.size(), input.points.size());
+  for(std::size_t v = 0; v < mesh.points.size(); ++v) {
+    bool on_boundary = false;
+    for(const auto& t : mesh.triangles)
+      on_boundary = on_boundary || t[0] == int(v) || t[1] == int(v) || t[2] == int(v);
+    if(on_boundary)
+      EXPECT_NEAR(V3(mesh.points[v].data()).norm(), 1.0, 1e-15) << "boundary vertex " << v << " left the sphere";
+  }
+  const double ball = 4.0 / 3.0 * std::acos(-1.0);
+  EXPECT_LT(std::abs(volumes(mesh).total - ball), 0.5 * std::abs(volumes(unbounded).total - ball));
+  // the splits may cost angles, down to 15 degrees where the mesh was better
+  EXPECT_GE(r.worst_after, std::min(15.0, r0.worst_after));
+  std::printf("[sphere, distance bound %.3f] largest distance %.4f -> %.4f, %zu splits, %zu -> %zu vertices, volume "
+              "error %.2f -> %.2f %%, worst %.2f (without the bound %.2f)\n",
+              bound, d0, d, r.distance_splits, input.points.size(), mesh.points.size(),
+              100 * std::abs(volumes(unbounded).total - ball) / ball, 100 * std::abs(volumes(mesh).total - ball) / ball,
+              r.worst_after, r0.worst_after);
+}
+
 TEST(ImproveMesh, CapOnACurvedSurfaceIsRemoved)
 {
   // a ridge a-b raised by 0.1 over the square p, q (two tets below it, to

@@ -94,6 +94,21 @@ struct Improvement_options {
   /// the same conditions on the boundary). Off by default; on in the
   /// pipeline (the elephant with a 1:10 layer: edges in range 81 -> 84 %)
   bool edge_lengths = false;
+  /// with a `surface_projection` and `boundary_smoothing` (and a
+  /// `curve_projection` for the feature edges) and a positive value D: at the end, up to 4 rounds over the
+  /// boundary triangles farther than D from their patch's surface (sampled on
+  /// a barycentric grid of 4 steps per edge and at the centroid: a chord
+  /// strays most inside),
+  /// farthest first, each triangle's edges tried longest first and split at a
+  /// point on the input (placed like the splits above; its new boundary
+  /// triangles turn by at most 80 degrees) when no new tet is below 15
+  /// degrees (or the mesh's worst, if lower); then passes again. Throughout
+  /// the improvement, boundary moves and curved boundary flips keep each
+  /// boundary triangle within D or no farther than before. Adds vertices
+  /// like `edge_splits`. `Improvement_report` gives the splits, the largest
+  /// distance after and the triangles still beyond D (where no split was
+  /// good enough). 0 (the default): off
+  double surface_distance = 0;
   /// seed of those random trial moves (the result is a function of it)
   unsigned random_seed = 0;
   /// tets of ref 0 are padding outside the domain (as the cells outside the

@@ -132,7 +132,10 @@ inline std::string to_json(const Meshing_report& r)
     << ", \"feature_edge_collapses\": " << r.improvement.feature_edge_collapses
     << ", \"length_splits\": " << r.improvement.length_splits
     << ", \"length_collapses\": " << r.improvement.length_collapses
-    << ", \"length_flips\": " << r.improvement.length_flips << ", \"seconds\": " << num(r.improvement.seconds)
+    << ", \"length_flips\": " << r.improvement.length_flips
+    << ", \"distance_splits\": " << r.improvement.distance_splits
+    << ", \"triangles_beyond_distance\": " << r.improvement.triangles_beyond_distance
+    << ", \"seconds\": " << num(r.improvement.seconds)
     << ", \"time_limit_reached\": " << (r.improvement.time_limit_reached ? "true" : "false") << "}"
     << ",\n    \"validity_seconds\": " << num(r.validity_seconds) << ",\n    \"surface_distance\": "
     << num(r.surface_distance) << ",\n    \"surface_distance_relative\": " << num(r.surface_distance_relative)
@@ -220,8 +223,13 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
   }
   o.precision(3);
   o << "surface:  boundary within " << r.surface_distance;
-  if(r.surface_distance_bound > 0)
-    o << " (bound " << r.surface_distance_bound << ")";
+  if(r.surface_distance_bound > 0) {
+    o << " (bound " << r.surface_distance_bound;
+    if(r.improved && !r.improvement_boundary_fixed) // (with the boundary fixed nothing is split)
+      o << "; " << r.improvement.distance_splits << " boundary edges split for it, "
+        << r.improvement.triangles_beyond_distance << " triangles still beyond it";
+    o << ")";
+  }
   o << " of the input (" << 100 * r.surface_distance_relative
     << " % of the diagonal), input within " << r.input_to_boundary_distance << " of the boundary, volume error "
     << 100 * r.volume_error << " %\n";

@@ -242,6 +242,14 @@ struct Improvement_report {
   /// the edge removals of long edges that cut through a layer of nodes
   /// (`Improvement_options::edge_lengths`; counted in the flips too)
   std::size_t length_flips = 0;
+  /// with `Improvement_options::surface_distance` (and a `surface_projection`
+  /// with `boundary_smoothing`; else nothing is measured and these stay 0):
+  /// the splits of boundary edges for it (counted in the splits too), the
+  /// largest sampled distance of a boundary triangle to its patch's surface
+  /// after the improvement, and the triangles still farther than the bound
+  std::size_t distance_splits = 0;
+  double largest_surface_distance = 0;
+  std::size_t triangles_beyond_distance = 0;
   /// if a collapse removed vertices: the index in the improved mesh of each
   /// vertex of the input mesh followed by the split ones (-1: removed); empty
   /// if no vertex was removed (indices unchanged, split vertices appended)
@@ -331,6 +339,9 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
   report.length_splits = c.length_splits;
   report.length_collapses = c.length_collapses;
   report.length_flips = c.length_flips;
+  report.distance_splits = c.distance_splits;
+  report.largest_surface_distance = c.largest_surface_distance;
+  report.triangles_beyond_distance = c.triangles_beyond_distance;
   report.passes = c.passes;
   report.time_limit_reached = c.time_limit_reached;
   report.seconds = improver.elapsed_seconds();
@@ -345,8 +356,8 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
 /// `smoothing`, `boundary_smoothing`, `boundary_flips`,
 /// `curved_boundary_flips`, `sliver_moves`, `edge_splits`,
 /// `split_below_angle`, `edge_collapses`, `keep_edges_in_range`,
-/// `edge_lengths`, `maximum_ring_size`, `smoothing_iterations`,
-/// `surface_projection`, `curve_projection`.
+/// `edge_lengths`, `surface_distance`, `maximum_ring_size`,
+/// `smoothing_iterations`, `surface_projection`, `curve_projection`.
 template <typename NamedParameters>
 Improvement_options improvement_options(const NamedParameters& np)
 {
@@ -370,6 +381,7 @@ Improvement_options improvement_options(const NamedParameters& np)
   o.edge_collapses = choose_parameter(get_parameter(np, BNP::edge_collapses), o.edge_collapses);
   o.keep_edges_in_range = choose_parameter(get_parameter(np, BNP::keep_edges_in_range), o.keep_edges_in_range);
   o.edge_lengths = choose_parameter(get_parameter(np, BNP::edge_lengths), o.edge_lengths);
+  o.surface_distance = choose_parameter(get_parameter(np, BNP::surface_distance), o.surface_distance);
   o.maximum_ring_size = choose_parameter(get_parameter(np, BNP::maximum_ring_size), o.maximum_ring_size);
   o.smoothing_iterations = choose_parameter(get_parameter(np, BNP::smoothing_iterations), o.smoothing_iterations);
   o.surface_projection = choose_parameter(get_parameter(np, BNP::surface_projection), o.surface_projection);

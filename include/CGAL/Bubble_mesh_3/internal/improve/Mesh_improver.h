@@ -91,6 +91,13 @@ struct Improver_counters {
   std::size_t length_collapses = 0;
   /// edge removals of long edges by `length_phase()` (counted in the flips too)
   std::size_t length_flips = 0;
+  /// the splits of `distance_phase()` (counted in the splits too), and the
+  /// boundary triangles still farther than the bound from the input after it
+  std::size_t distance_splits = 0;
+  std::size_t triangles_beyond_distance = 0;
+  /// the largest sampled distance of a boundary triangle to its patch after
+  /// the improvement (measured only with a bound)
+  double largest_surface_distance = 0;
   int passes = 0;
   bool time_limit_reached = false;
 };
@@ -307,6 +314,8 @@ public:
         break;
       target_ = std::min(s_.target_angle, s_.split_below_angle);
     }
+    if(s_.surface_distance > 0 && m_.surface_projection)
+      keep_surface_distance();
   }
 
 private:
@@ -567,6 +576,10 @@ private:
     // degrees only, and left a chord of metric length 2, 1.5 times the
     // surface-distance bound away from the wall)
     if(!coplanar && metric_edge_length(p0, pk) > std::max(std::sqrt(2.0), metric_edge_length(a, b)))
+      return;
+    if(!coplanar && !keeps_surface_distance({{{P(a), P(b), P(p0)}}, {{P(a), P(b), P(pk)}}},
+                                            {{{P(a), P(p0), P(pk)}}, {{P(b), P(p0), P(pk)}}},
+                                            m_.face_patch(a, b, p0)))
       return;
 
     // the old faces as stored (listed orientation), the new ones oriented
@@ -961,6 +974,20 @@ private:
     return keeps_edges_in_range(b, candidate);
   }
 
+  /// with a distance bound, whether each boundary face at a surface vertex
+  /// keeps it (`keeps_surface_distance()`) with the vertex at `candidate`
+  bool surface_distance_kept(const Smoothing_ball& b, const Eigen::Vector3d& candidate) const
+  {
+    if(!(s_.surface_distance > 0))
+      return true;
+    for(const auto& sf : b.surface_faces) {
+      const int a = sf.first[0], c = sf.first[1];
+      if(!keeps_surface_distance({{{b.x_start, P(a), P(c)}}}, {{{candidate, P(a), P(c)}}}, m_.face_patch(b.v, a, c)))
+        return false;
+    }
+    return true;
+  }
+
   /// whether the edges of `b.conforming` stay in range with the vertex at `candidate`
   bool keeps_edges_in_range(const Smoothing_ball& b, const Eigen::Vector3d& candidate) const
   {
@@ -986,7 +1013,7 @@ private:
     if(b.on_surface ? !surface_move_ok(b, candidate) : !keeps_edges_in_range(b, candidate))
       return false;
     const double w = ball_quality(b, candidate, b.current + Smoothing_ball::minimum_gain);
-    if(w > b.current + Smoothing_ball::minimum_gain) {
+    if(w > b.current + Smoothing_ball::minimum_gain && (!b.on_surface || surface_distance_kept(b, candidate))) {
       b.current = w;
       b.x = candidate;
       return true;
@@ -1512,6 +1539,12 @@ private:
     /// positions where a new edge is at least as long or shorter than
     /// 1/sqrt2 are refused
     double length_limit = std::numeric_limits<double>::infinity();
+    /// the cosine of the largest turn of a new boundary triangle from the
+    /// old one it halves: 20 degrees, 80 for a distance split (the old
+    /// triangle is the chord that strays, the new ones follow the surface;
+    /// the embedding is checked: at 45 degrees, the long chords of a coarse
+    /// sphere mesh next to thin triangles could not be split)
+    double cos_turn = cos_of_largest_boundary_turn();
   };
 
   /// the ring of (a, b) and the new tets; false if the edge cannot be split
@@ -1580,7 +1613,7 @@ private:
     if(e.length_limit < std::numeric_limits<double>::infinity() && !split_lengths_ok(e, x))
       return -1.0;
     if(e.boundary) {
-      const double cos_turn = cos_of_largest_boundary_turn();
+      const double cos_turn = e.cos_turn;
       const int ends[2] = {e.ring.front(), e.ring.back()};
       for(int k = 0; k < 2; ++k)
         for(int u : {e.a, e.b}) {
@@ -1962,6 +1995,152 @@ private:
         break;
     }
     return changes;
+  }
+
+  // ---- surface distance -------------------------------------------------------
+
+  /// the worst tet a distance split may leave (or the mesh's worst, if
+  /// lower): the bound is the user's, so it may cost angles down to this,
+  /// then flips and moves raise them again (requiring the mesh's worst
+  /// instead refused most splits on the eight: its chords stayed 1.6 times
+  /// the bound away)
+  static constexpr double distance_quality_floor = 15;
+
+  /// Rounds of `distance_phase()`, each followed by passes of flips and moves
+  /// (which move boundary vertices on the surface and flip curved boundary
+  /// edges, so the next round measures again), then the count of the
+  /// triangles still beyond the bound.
+  void keep_surface_distance()
+  {
+    for(int round = 0; round < 16 && !out_of_time(); ++round) {
+      if(distance_phase() == 0)
+        break;
+      for(int pass = 0; pass < s_.maximum_passes && has_bad_tet() && !c_.time_limit_reached; ++pass) {
+        ++c_.passes;
+        std::size_t changes = s_.flips ? flip_phase() : 0;
+        if(s_.smoothing && !c_.time_limit_reached)
+          changes += smoothing_phase();
+        if(changes == 0)
+          break;
+      }
+    }
+    c_.triangles_beyond_distance = 0;
+    c_.largest_surface_distance = 0;
+    for(std::size_t f = 0; f < m_.listed.size(); ++f) {
+      const double d = triangle_distance(f);
+      c_.largest_surface_distance = std::max(c_.largest_surface_distance, d);
+      c_.triangles_beyond_distance += d > s_.surface_distance ? 1 : 0;
+    }
+  }
+
+  /// the largest distance to its patch's surface of the points of a
+  /// barycentric grid of 4 steps per edge and the centroid of the listed
+  /// triangle in slot `f` (about the measure of the meshing report's surface
+  /// distance, against the patch instead of the whole input); 0 if the patch
+  /// has no projection
+  double triangle_distance(std::size_t f) const
+  {
+    const std::array<int, 3>& t = m_.listed[f];
+    return triangle_distance(P(t[0]), P(t[1]), P(t[2]), m_.listed_refs[f]);
+  }
+
+  /// the same for the triangle (x0, x1, x2) of patch `patch`
+  double triangle_distance(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
+                           int patch) const
+  {
+    double d2 = 0;
+    auto sample = [&](double a, double b) {
+      const Eigen::Vector3d x = a * x0 + b * x1 + (1 - a - b) * x2;
+      std::array<double, 3> q;
+      if(!m_.surface_projection(patch, {{x[0], x[1], x[2]}}, q))
+        return false;
+      d2 = std::max(d2, (x - Eigen::Vector3d(q[0], q[1], q[2])).squaredNorm());
+      return true;
+    };
+    constexpr int n = 4;
+    for(int i = 0; i <= n; ++i)
+      for(int j = 0; i + j <= n; ++j)
+        if(!((i == 0 && j == 0) || i == n || j == n) && !sample(double(i) / n, double(j) / n)) // vertices are on the input
+          return 0;
+    // the centroid too: a chord triangle of a smooth surface strays most near its circumcentre
+    return sample(1.0 / 3, 1.0 / 3) ? std::sqrt(d2) : 0;
+  }
+
+  /// With a distance bound: whether the boundary triangles `after` (of
+  /// `patch`) are each within the bound or no farther than the farthest of
+  /// `before` (so moves and flips never make the bound worse)
+  bool keeps_surface_distance(const std::vector<std::array<Eigen::Vector3d, 3>>& before,
+                              const std::vector<std::array<Eigen::Vector3d, 3>>& after, int patch) const
+  {
+    if(!(s_.surface_distance > 0) || !m_.surface_projection || patch == Mutable_tet_mesh::unlisted_patch)
+      return true;
+    double allowed = -1;
+    for(const auto& t : after) {
+      const double d = triangle_distance(t[0], t[1], t[2], patch);
+      if(d <= s_.surface_distance)
+        continue;
+      if(allowed < 0) {
+        allowed = s_.surface_distance;
+        for(const auto& o : before)
+          allowed = std::max(allowed, triangle_distance(o[0], o[1], o[2], patch));
+      }
+      if(d > allowed)
+        return false;
+    }
+    return true;
+  }
+
+  /// Where a boundary triangle strays farther than `surface_distance` from
+  /// its patch's surface (a chord across a curved patch or along a curved
+  /// feature curve), its edges, longest first, are split at a point on the
+  /// input (on the patch, or on the curve for a feature edge; placed like
+  /// the other splits, its new boundary triangles turning by at most 80
+  /// degrees) until one split leaves no tet below `distance_quality_floor`
+  /// (or the mesh's worst, if lower). Farthest triangles first. Returns the
+  /// number of splits.
+  std::size_t distance_phase()
+  {
+    double worst = std::numeric_limits<double>::infinity();
+    for(std::size_t t = 0; t < m_.tets.size(); ++t)
+      if(m_.alive[t] && !m_.is_passive(int(t)))
+        worst = std::min(worst, q_[t]);
+    const double floor = std::min(distance_quality_floor, worst);
+    std::vector<std::pair<double, std::size_t>> far;
+    for(std::size_t f = 0; f < m_.listed.size(); ++f) {
+      const double d = triangle_distance(f);
+      if(d > s_.surface_distance)
+        far.push_back({-d, f});
+    }
+    std::sort(far.begin(), far.end());
+    std::size_t splits = 0;
+    for(const auto& entry : far) {
+      if(out_of_time())
+        break;
+      const std::array<int, 3> t = m_.listed[entry.second];
+      if(triangle_distance(entry.second) <= s_.surface_distance)
+        continue; // an earlier split nearby changed it
+      std::array<std::pair<double, int>, 3> order;
+      for(int k = 0; k < 3; ++k)
+        order[std::size_t(k)] = {-(P(t[std::size_t((k + 1) % 3)]) - P(t[std::size_t(k)])).squaredNorm(), k};
+      std::sort(order.begin(), order.end());
+      for(const auto& o : order) {
+        const int a = t[std::size_t(o.second)], b = t[std::size_t((o.second + 1) % 3)];
+        const int tet = tet_of_edge(a, b);
+        Edge_split e;
+        e.cos_turn = std::cos(80.0 * std::acos(-1.0) / 180.0);
+        if(tet < 0 || !prepare_split(tet, a, b, e) || !place_split_vertex(e) || !(e.best >= floor))
+          continue;
+        if(e.boundary && !boundary_stays_embedded({{{a, -1, e.ring.front()}}, {{-1, b, e.ring.front()}},
+                                                   {{a, -1, e.ring.back()}}, {{-1, b, e.ring.back()}}},
+                                                  {{{a, b, e.ring.front()}}, {{a, b, e.ring.back()}}}, -1, e.x))
+          continue;
+        apply_split(e);
+        ++c_.distance_splits;
+        ++splits;
+        break;
+      }
+    }
+    return splits;
   }
 
   // ---- phases ----------------------------------------------------------------

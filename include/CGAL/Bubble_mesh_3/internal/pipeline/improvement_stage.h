@@ -56,6 +56,9 @@ void improvement_stage(const MetricField& field, const Domain_boundary& boundary
   io.keep_edges_in_range = true;
   // the packing's gaps and clusters where the metric grades fast
   io.edge_lengths = true;
+  // the surface-approximation bound: chords that the packing's nodes leave
+  // farther than it from the input are split
+  io.surface_distance = rep.surface_distance_bound;
   // Boundary moves, curved flips, splits and collapses each keep the boundary
   // embedded, but should a thin part (a tip thinner than the sizes) still
   // fold, the improvement is done again on the front's mesh with the
