@@ -1515,9 +1515,7 @@ private:
       return false;
     if(!(e.best > e.old_worst + 1.0))
       return false;
-    if(e.boundary && !boundary_stays_embedded({{{a, -1, e.ring.front()}}, {{-1, b, e.ring.front()}},
-                                               {{a, -1, e.ring.back()}}, {{-1, b, e.ring.back()}}},
-                                              {{{a, b, e.ring.front()}}, {{a, b, e.ring.back()}}}, -1, e.x))
+    if(!split_keeps_boundary_embedded(e))
       return false;
     apply_split(e);
     return true;
@@ -1546,6 +1544,17 @@ private:
     /// sphere mesh next to thin triangles could not be split)
     double cos_turn = cos_of_largest_boundary_turn();
   };
+
+  /// whether the boundary stays embedded with the split's new boundary
+  /// triangles (a -1 standing for the new vertex at `e.x`) for the two it
+  /// halves (always, for an interior edge)
+  bool split_keeps_boundary_embedded(const Edge_split& e) const
+  {
+    const int a = e.a, b = e.b;
+    return !e.boundary || boundary_stays_embedded({{{a, -1, e.ring.front()}}, {{-1, b, e.ring.front()}},
+                                                   {{a, -1, e.ring.back()}}, {{-1, b, e.ring.back()}}},
+                                                  {{{a, b, e.ring.front()}}, {{a, b, e.ring.back()}}}, -1, e.x);
+  }
 
   /// the ring of (a, b) and the new tets; false if the edge cannot be split
   /// (a feature edge without a curve projection, a boundary edge between two
@@ -1969,9 +1978,7 @@ private:
           continue;
         if(!split_lengths_ok(e, e.x) || !length_change_ok(e.best, e.old_worst))
           continue;
-        if(e.boundary && !boundary_stays_embedded({{{a, -1, e.ring.front()}}, {{-1, b, e.ring.front()}},
-                                                   {{a, -1, e.ring.back()}}, {{-1, b, e.ring.back()}}},
-                                                  {{{a, b, e.ring.front()}}, {{a, b, e.ring.back()}}}, -1, e.x))
+        if(!split_keeps_boundary_embedded(e))
           continue;
         apply_split(e);
         ++round_changes;
@@ -2130,9 +2137,7 @@ private:
         e.cos_turn = std::cos(80.0 * std::acos(-1.0) / 180.0);
         if(tet < 0 || !prepare_split(tet, a, b, e) || !place_split_vertex(e) || !(e.best >= floor))
           continue;
-        if(e.boundary && !boundary_stays_embedded({{{a, -1, e.ring.front()}}, {{-1, b, e.ring.front()}},
-                                                   {{a, -1, e.ring.back()}}, {{-1, b, e.ring.back()}}},
-                                                  {{{a, b, e.ring.front()}}, {{a, b, e.ring.back()}}}, -1, e.x))
+        if(!split_keeps_boundary_embedded(e))
           continue;
         apply_split(e);
         ++c_.distance_splits;
