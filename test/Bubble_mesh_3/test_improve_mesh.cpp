@@ -1462,6 +1462,53 @@ TEST(ImproveMesh, NothingToDo)
   EXPECT_TRUE(BM::check_validity(mesh, vo).is_valid());
 }
 
+// An option without a meaning is refused by name, before anything changes:
+// a NaN would silently turn a part of the improvement off (no tet is below a
+// NaN target, no triangle beyond a NaN distance).
+TEST(ImproveMesh, MeaninglessOptionsAreRefusedByName)
+{
+  CGAL::Constant_metric_field_3<K> field(identity_metric);
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(random_cube_points(60, 5));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto refusal = [&](const BM::Improvement_options& o) {
+    BM::Indexed_tet_mesh_3 mesh = input;
+    std::string what = "(nothing thrown)";
+    try {
+      BM::improve_mesh(mesh, field, o);
+    } catch(const BM::Invalid_input& e) {
+      what = e.what();
+    }
+    EXPECT_EQ(mesh.tets, input.tets);
+    EXPECT_EQ(mesh.points, input.points);
+    return what;
+  };
+  BM::Improvement_options o;
+  o.target_angle = nan;
+  EXPECT_NE(refusal(o).find("target_angle"), std::string::npos);
+  o.target_angle = 120;
+  EXPECT_NE(refusal(o).find("target_angle"), std::string::npos);
+  o = {};
+  o.split_below_angle = -1;
+  EXPECT_NE(refusal(o).find("split_below_angle"), std::string::npos);
+  o = {};
+  o.surface_distance = nan;
+  EXPECT_NE(refusal(o).find("surface_distance"), std::string::npos);
+  o.surface_distance = -0.1;
+  EXPECT_NE(refusal(o).find("surface_distance"), std::string::npos);
+  o = {};
+  o.time_limit_seconds = nan;
+  EXPECT_NE(refusal(o).find("time_limit_seconds"), std::string::npos);
+  // the named-parameter form goes through the same check
+  BM::Indexed_tet_mesh_3 mesh = input;
+  EXPECT_THROW(BM::improve_mesh(mesh, field, BM::parameters::surface_distance(nan)), BM::Invalid_input);
+  // the limits themselves are accepted: infinity is "off" for the distance
+  o = {};
+  o.surface_distance = std::numeric_limits<double>::infinity();
+  o.target_angle = 0;
+  o.split_below_angle = 90;
+  EXPECT_EQ(refusal(o), "(nothing thrown)");
+}
+
 // The pipeline's mesh of the demo cylinder. Disabled by default: set
 // BUBBLE_MESH_3_IMPROVE_INPUT to a MEDIT file (e.g. the output of
 // `bubble_mesh_3 cylinder.off -o cyl.mesh --size 0.19`) and

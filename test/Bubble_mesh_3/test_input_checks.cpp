@@ -500,4 +500,23 @@ TEST(InputChecks, TimeLimitThrowsTimeLimitExceeded)
   EXPECT_FALSE(a.tets.empty());
 }
 
+// A NaN limit or bound is refused by name before any work (it would
+// otherwise mean no limit, or an automatic one)
+TEST(InputChecks, NotANumberParametersAreRefusedByName)
+{
+  const auto domain = domain_from_off(bad + "inward_cube.off");
+  const CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.1));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(message_of<BM::Invalid_input>(
+                [&] { BM::make_indexed_anisotropic_mesh_3(*domain, field, BM::parameters::time_limit(nan)); }),
+            "time_limit: not a number");
+  EXPECT_EQ(message_of<BM::Invalid_input>([&] {
+              BM::make_indexed_anisotropic_mesh_3(*domain, field, BM::parameters::improvement_time_limit(nan));
+            }),
+            "improvement_time_limit: not a number");
+  EXPECT_EQ(message_of<BM::Invalid_input>(
+                [&] { BM::make_indexed_anisotropic_mesh_3(*domain, field, BM::parameters::surface_distance(nan)); }),
+            "surface_distance: not a number");
+}
+
 } // namespace

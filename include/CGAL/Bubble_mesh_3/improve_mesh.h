@@ -20,6 +20,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <string>
 #include <vector>
 
 /// \file improve_mesh.h
@@ -276,6 +277,25 @@ inline void improvement_statistics(std::vector<double> values, double target, do
   p01 = nearest_rank_percentile(std::move(values), 1.0);
 }
 
+/// Throws `Invalid_input` naming the first option that has no meaning (a
+/// NaN would otherwise silently turn a part of the improvement off: no tet
+/// is below a NaN target, no triangle beyond a NaN distance).
+inline void check_improvement_options(const Improvement_options& o)
+{
+  auto refuse = [](const std::string& what) {
+    throw Invalid_input("improve_mesh: " + what);
+  };
+  if(std::isnan(o.time_limit_seconds))
+    refuse("time_limit_seconds is NaN (negative means automatic)");
+  if(!(o.target_angle >= 0 && o.target_angle <= 90))
+    refuse("target_angle must be between 0 and 90 degrees, not " + std::to_string(o.target_angle));
+  if(!(o.split_below_angle >= 0 && o.split_below_angle <= 90))
+    refuse("split_below_angle must be between 0 and 90 degrees, not " + std::to_string(o.split_below_angle));
+  if(std::isnan(o.surface_distance) || o.surface_distance < 0)
+    refuse("surface_distance must be a distance >= 0 (0 or infinity: off), not " +
+           std::to_string(o.surface_distance));
+}
+
 } // namespace internal
 
 /// \ingroup PkgBubbleMesh3Functions
@@ -285,11 +305,13 @@ inline void improvement_statistics(std::vector<double> values, double target, do
 /// valid (`check_validity()`), with positively oriented tets. Tets keep
 /// their subdomain; their order changes; boundary flips replace listed
 /// triangles in place (same count, refs and orientation). Throws `Invalid_input`
-/// if an index is out of range; exceptions of `field` propagate.
+/// if an index is out of range or an option has no meaning (a NaN, an angle
+/// outside [0, 90], a negative distance); exceptions of `field` propagate.
 template <typename MetricField_3>
 Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& field,
                                 const Improvement_options& options = {})
 {
+  internal::check_improvement_options(options);
   Improvement_report report;
   if(mesh.tets.empty())
     return report;

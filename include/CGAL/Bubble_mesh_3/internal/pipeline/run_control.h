@@ -83,8 +83,14 @@ Meshing_settings resolve_settings(const NP& np)
                                 std::function<void(const std::string&)>());
   s.report = choose_parameter(get_parameter(np, BNP::meshing_report), static_cast<Meshing_report*>(nullptr));
   s.surface_distance = choose_parameter(get_parameter(np, BNP::surface_distance), 0.0);
+  // a NaN would pass every comparison as false: no limit at all, or an
+  // automatic one, instead of the number the caller meant
   if(std::isnan(s.surface_distance))
     throw Invalid_input("surface_distance: not a number");
+  if(std::isnan(s.time_limit))
+    throw Invalid_input("time_limit: not a number");
+  if(std::isnan(s.improve_time_limit))
+    throw Invalid_input("improvement_time_limit: not a number");
   s.small_feature_refinement = choose_parameter(get_parameter(np, BNP::small_feature_refinement), true);
   s.realizable_metric = choose_parameter(get_parameter(np, BNP::realizable_metric), true);
   return s;
