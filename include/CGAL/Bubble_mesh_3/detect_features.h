@@ -231,6 +231,52 @@ std::size_t remove_sliver_faces(Polyhedron& polyhedron, const MetricField& metri
   return gone.size();
 }
 
+/// Un-marks the sharp edges between patches of one group (`root` maps a patch
+/// id 1..n to its group's representative) and renumbers the groups 1..m in
+/// the order of their representatives' ids. Returns m.
+template <typename Polyhedron, typename EdgeIsFeature, typename PatchId, typename Root>
+std::size_t merge_patch_groups(Polyhedron& polyhedron, EdgeIsFeature eif, PatchId pid, Root& root, int n,
+                               std::size_t& unmarked_edges)
+{
+  typedef boost::graph_traits<Polyhedron> GT;
+  for(typename GT::edge_descriptor e : edges(polyhedron)) {
+    if(!get(eif, e))
+      continue;
+    const typename GT::halfedge_descriptor h = halfedge(e, polyhedron);
+    const int p = get(pid, face(h, polyhedron)), q = get(pid, face(opposite(h, polyhedron), polyhedron));
+    if(p != q && root(p) == root(q)) {
+      put(eif, e, false);
+      ++unmarked_edges;
+    }
+  }
+  std::vector<int> number(std::size_t(n) + 1, 0);
+  int m = 0;
+  for(int p = 1; p <= n; ++p)
+    if(root(p) == p)
+      number[std::size_t(p)] = ++m;
+  for(typename GT::face_descriptor f : faces(polyhedron))
+    put(pid, f, number[std::size_t(root(get(pid, f)))]);
+  return std::size_t(m);
+}
+
+/// Refills the incident patches of the vertices on sharp edges, as CGAL's
+/// feature detection fills them (other vertices get none).
+template <typename Polyhedron, typename EdgeIsFeature, typename PatchId, typename IncidentPatches>
+void refill_incident_patches(const Polyhedron& polyhedron, EdgeIsFeature eif, PatchId pid, IncidentPatches vip)
+{
+  typedef boost::graph_traits<Polyhedron> GT;
+  for(typename GT::vertex_descriptor v : vertices(polyhedron)) {
+    auto& ids = vip[v];
+    ids.clear();
+    bool on_sharp_edge = false;
+    for(typename GT::halfedge_descriptor h : halfedges_around_target(v, polyhedron))
+      on_sharp_edge = on_sharp_edge || get(eif, edge(h, polyhedron));
+    if(on_sharp_edge)
+      for(typename GT::halfedge_descriptor h : halfedges_around_target(v, polyhedron))
+        ids.insert(get(pid, face(h, polyhedron)));
+  }
+}
+
 /// Merges every surface patch narrower than `narrow_patch_fraction()` of the
 /// largest size `metric` asks on it into the neighbour it meets at the
 /// gentlest turn among those `wider_neighbour_ratio()` times wider, by
@@ -375,37 +421,10 @@ std::size_t merge_narrow_patches(Polyhedron& polyhedron, const MetricField& metr
     }
     if(merged == merged_before)
       break;
-    for(edge_descriptor e : edges(polyhedron)) {
-      if(!get(eif, e))
-        continue;
-      const halfedge_descriptor h = halfedge(e, polyhedron);
-      const int p = get(pid, face(h, polyhedron)), q = get(pid, face(opposite(h, polyhedron), polyhedron));
-      if(p != q && root(p) == root(q)) {
-        put(eif, e, false);
-        ++unmarked_edges;
-      }
-    }
-    // renumber 1..m in the order of the old ids
-    std::vector<int> number(std::size_t(n) + 1, 0);
-    int m = 0;
-    for(int p = 1; p <= n; ++p)
-      if(root(p) == p)
-        number[std::size_t(p)] = ++m;
-    for(face_descriptor f : faces(polyhedron))
-      put(pid, f, number[std::size_t(root(get(pid, f)))]);
-    patches = std::size_t(m);
+    patches = merge_patch_groups(polyhedron, eif, pid, root, n, unmarked_edges);
   }
-  if(merged > 0) // the incident patches of the vertices on sharp edges, as CGAL fills them
-    for(vertex_descriptor v : vertices(polyhedron)) {
-      auto& ids = vip[v];
-      ids.clear();
-      bool on_sharp_edge = false;
-      for(halfedge_descriptor h : halfedges_around_target(v, polyhedron))
-        on_sharp_edge = on_sharp_edge || get(eif, edge(h, polyhedron));
-      if(on_sharp_edge)
-        for(halfedge_descriptor h : halfedges_around_target(v, polyhedron))
-          ids.insert(get(pid, face(h, polyhedron)));
-    }
+  if(merged > 0)
+    refill_incident_patches(polyhedron, eif, pid, vip);
   return merged;
 }
 

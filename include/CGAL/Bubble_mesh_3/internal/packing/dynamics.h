@@ -394,123 +394,138 @@ private:
     });
   }
 
-  // One iteration: forces (Jacobi), integration, constrained moves.
+  // One iteration: forces (Jacobi, every bubble from the same positions),
+  // then the constrained moves. Returns the largest step.
   double step()
   {
-    const std::size_t n = b_.size();
+    exec_.for_each(b_.size(), [&](std::size_t i) {
+      if(!hot_[i].fixed)
+        displacement_[i] = displacement_of(i);
+    });
+    return move_bubbles();
+  }
+
+  // The step bubble i takes this iteration (also records its overlap and its
+  // nearest neighbour for the population control).
+  Vec3 displacement_of(std::size_t i)
+  {
     const double cut = force_.cutoff();
     const double cut2 = cut * cut;
-    const double max_step = traits_.maximum_step();
-    exec_.for_each(n, [&](std::size_t i) {
-      const Hot_bubble& bi = hot_[i];
-      if(bi.fixed)
-        return;
-      // The force is minus the gradient of the pair potentials (phi' = -f) of
-      // w(a, b) with respect to x_i, turned into a displacement by M_i^-1:
-      //   F_i = -f(w) (dw/da (d - M_i^-1 q / 2) / a + dw/db M_i^-1 M_j d / b),
-      // q_k = d^T (dM_i/dx_k) d: the metric's own variation as bubble i moves.
-      // For a constant metric this is -f(w) d / a (the paper's force along the
-      // segment, in metric units). Without q (metrics frozen), the pair force
-      // points along the chord, whereas in a graded metric the shortest path
-      // (the geodesic) bends toward the coarse side: the neighbours of a
-      // metric-uniform packing then do not balance (repulsion pushes toward
-      // the coarse side, attraction toward the fine side, by about
-      // f * |grad log h| / 2 per pair), a body force that the second shell's
-      // attraction turns into a steady creep toward the fine end. q restores
-      // the geodesic direction to first order (see doc/design.md).
-      // f: the d / a terms, g: the covector terms (mapped by M_i^-1 at the end).
-      Vec3 f = Vec3::Zero(), g = Vec3::Zero();
-      const std::array<Sym3, 3>* G = (use_gradient_ && !flat_[i]) ? &grad_[i] : nullptr;
-      const bool volume = b_[i].dimension == 3;
-      double overlap = 0;
-      double nearest = cut;
-      // stiffness of i's pairs: sum |f'(w)| |grad_i w|^2 (gradient in M_i),
-      // and what it would be in a constant metric (|grad_i w| = 1); equal
-      // where every neighbour has i's metric (flat), so only measured elsewhere
-      const bool measure_stiffness = !flat_[i];
-      double stiffness = 0, constant_metric_stiffness = 0;
-      for(const int* jp = lists_.begin(i); jp != lists_.end(i); ++jp) {
-        const Hot_bubble& bj = hot_[*jp];
-        // full force law with fixed bubbles and its own entity; repulsion only otherwise
-        const bool pulls = bj.fixed || bj.entity == bi.entity;
-        const Vec3 d = bj.x - bi.x;
-        const double a2 = bi.m.squared_length(d);
-        const Vec3 mjd = bj.m * d;
-        const double b2 = d.dot(mjd);
-        if(a2 >= cut2 && b2 >= cut2)
-          continue;
-        const double a = std::sqrt(a2), b = std::sqrt(b2);
-        const double w = distance_(a, b);
-        if(w >= cut)
-          continue;
-        overlap += std::max(0.0, 1 - w);
-        nearest = std::min(nearest, w);
-        if(!pulls && w >= 1)
-          continue;
-        const double fw = force_(w);
-        if(a > 0 && b > 0) {
-          // w = 2ab / (a + b): dw/da = 2 b^2 / (a + b)^2, dw/db = 2 a^2 / (a + b)^2
-          const double k = 2 * fw / ((a + b) * (a + b));
-          f -= (k * b * b / a) * d;
-          g -= (k * a * a / b) * mjd;
-          if(measure_stiffness) {
-            const double slope = std::abs(force_(w + 1e-4) - force_(std::max(0.0, w - 1e-4))) / 2e-4;
-            const Vec3 grad_w = (2 * b * b / ((a + b) * (a + b) * a)) * d +
-                                (2 * a * a / ((a + b) * (a + b) * b)) * (minv_[i] * mjd);
-            stiffness += slope * bi.m.squared_length(grad_w);
-            constant_metric_stiffness += slope;
-          }
-          if(G) {
-            // The first-order correction holds while the metric changes
-            // little across the pair. Where it changes by a large factor (a
-            // fine surface metric next to a coarse interior) the secant slope
-            // times |d|^2 outgrows the pair force itself and the bubble
-            // swings at the step cap without end (the armadillo's volume
-            // with a surface distance bound: half its bubbles at the cap for
-            // 300 iterations). So the correction is at most half the pair's
-            // own push (both in the metric of i: q M_i^-1 q / 4 a^2 against 1).
-            // On patches the bound is twice as loose: for an isotropic size h
-            // the ratio is about a |grad h|, so a surface field graded by 0.5
-            // already reaches 0.5 there, and that cut left a gap in a
-            // cylinder's wall that the boundary front bridged 0.27 off the
-            // surface. Unbounded, a patch crossing a boundary layer (a side
-            // wall where the normal size grows by 1-4 per unit length) swings
-            // at the step cap for the whole stage.
-            const Vec3 q((*G)[0].squared_length(d), (*G)[1].squared_length(d), (*G)[2].squared_length(d));
-            const double relative = 0.5 * std::sqrt(std::max(0.0, q.dot(minv_[i] * q))) / a;
-            const double bound = volume ? maximum_relative_correction : maximum_relative_correction_on_patches;
-            const double damp = relative > bound ? bound / relative : 1.0;
-            g += (0.5 * damp * k * b * b / a) * q;
-          }
-        } else {
-          // coincident centres: a deterministic push, opposite for the pair
-          Vec3 e(1, 0.5, 0.25);
-          e /= bi.m.length(e);
-          f += (std::size_t(*jp) > i ? -fw : fw) * e;
+    const Hot_bubble& bi = hot_[i];
+    // The force is minus the gradient of the pair potentials (phi' = -f) of
+    // w(a, b) with respect to x_i, turned into a displacement by M_i^-1:
+    //   F_i = -f(w) (dw/da (d - M_i^-1 q / 2) / a + dw/db M_i^-1 M_j d / b),
+    // q_k = d^T (dM_i/dx_k) d: the metric's own variation as bubble i moves.
+    // For a constant metric this is -f(w) d / a (the paper's force along the
+    // segment, in metric units). Without q (metrics frozen), the pair force
+    // points along the chord, whereas in a graded metric the shortest path
+    // (the geodesic) bends toward the coarse side: the neighbours of a
+    // metric-uniform packing then do not balance (repulsion pushes toward
+    // the coarse side, attraction toward the fine side, by about
+    // f * |grad log h| / 2 per pair), a body force that the second shell's
+    // attraction turns into a steady creep toward the fine end. q restores
+    // the geodesic direction to first order (see doc/design.md).
+    // f: the d / a terms, g: the covector terms (mapped by M_i^-1 at the end).
+    Vec3 f = Vec3::Zero(), g = Vec3::Zero();
+    const std::array<Sym3, 3>* G = (use_gradient_ && !flat_[i]) ? &grad_[i] : nullptr;
+    const bool volume = b_[i].dimension == 3;
+    double overlap = 0;
+    double nearest = cut;
+    // stiffness of i's pairs: sum |f'(w)| |grad_i w|^2 (gradient in M_i),
+    // and what it would be in a constant metric (|grad_i w| = 1); equal
+    // where every neighbour has i's metric (flat), so only measured elsewhere
+    const bool measure_stiffness = !flat_[i];
+    double stiffness = 0, constant_metric_stiffness = 0;
+    for(const int* jp = lists_.begin(i); jp != lists_.end(i); ++jp) {
+      const Hot_bubble& bj = hot_[*jp];
+      // full force law with fixed bubbles and its own entity; repulsion only otherwise
+      const bool pulls = bj.fixed || bj.entity == bi.entity;
+      const Vec3 d = bj.x - bi.x;
+      const double a2 = bi.m.squared_length(d);
+      const Vec3 mjd = bj.m * d;
+      const double b2 = d.dot(mjd);
+      if(a2 >= cut2 && b2 >= cut2)
+        continue;
+      const double a = std::sqrt(a2), b = std::sqrt(b2);
+      const double w = distance_(a, b);
+      if(w >= cut)
+        continue;
+      overlap += std::max(0.0, 1 - w);
+      nearest = std::min(nearest, w);
+      if(!pulls && w >= 1)
+        continue;
+      const double fw = force_(w);
+      if(a > 0 && b > 0) {
+        // w = 2ab / (a + b): dw/da = 2 b^2 / (a + b)^2, dw/db = 2 a^2 / (a + b)^2
+        const double k = 2 * fw / ((a + b) * (a + b));
+        f -= (k * b * b / a) * d;
+        g -= (k * a * a / b) * mjd;
+        if(measure_stiffness) {
+          const double slope = std::abs(force_(w + 1e-4) - force_(std::max(0.0, w - 1e-4))) / 2e-4;
+          const Vec3 grad_w = (2 * b * b / ((a + b) * (a + b) * a)) * d +
+                              (2 * a * a / ((a + b) * (a + b) * b)) * (minv_[i] * mjd);
+          stiffness += slope * bi.m.squared_length(grad_w);
+          constant_metric_stiffness += slope;
         }
+        if(G) {
+          // The first-order correction holds while the metric changes
+          // little across the pair. Where it changes by a large factor (a
+          // fine surface metric next to a coarse interior) the secant slope
+          // times |d|^2 outgrows the pair force itself and the bubble
+          // swings at the step cap without end (the armadillo's volume
+          // with a surface distance bound: half its bubbles at the cap for
+          // 300 iterations). So the correction is at most half the pair's
+          // own push (both in the metric of i: q M_i^-1 q / 4 a^2 against 1).
+          // On patches the bound is twice as loose: for an isotropic size h
+          // the ratio is about a |grad h|, so a surface field graded by 0.5
+          // already reaches 0.5 there, and that cut left a gap in a
+          // cylinder's wall that the boundary front bridged 0.27 off the
+          // surface. Unbounded, a patch crossing a boundary layer (a side
+          // wall where the normal size grows by 1-4 per unit length) swings
+          // at the step cap for the whole stage.
+          const Vec3 q((*G)[0].squared_length(d), (*G)[1].squared_length(d), (*G)[2].squared_length(d));
+          const double relative = 0.5 * std::sqrt(std::max(0.0, q.dot(minv_[i] * q))) / a;
+          const double bound = volume ? maximum_relative_correction : maximum_relative_correction_on_patches;
+          const double damp = relative > bound ? bound / relative : 1.0;
+          g += (0.5 * damp * k * b * b / a) * q;
+        }
+      } else {
+        // coincident centres: a deterministic push, opposite for the pair
+        Vec3 e(1, 0.5, 0.25);
+        e /= bi.m.length(e);
+        f += (std::size_t(*jp) > i ? -fw : fw) * e;
       }
-      f += minv_[i] * g;
-      // The integrator's step is stable for the stiffness of a constant
-      // metric. Where the metrics of i and its neighbours differ by a large
-      // factor (a boundary layer), w = 2ab / (a + b) follows the smaller of
-      // the two lengths with up to twice the slope, and M_i^-1 M_j amplifies
-      // the neighbour's term: the stiffness grows several times and the
-      // packing swings with a growing amplitude instead of settling (the
-      // elephant with a 1:10 layer: median step 0.01 -> 0.05 over 300
-      // iterations). Scaling i's force to the constant-metric stiffness keeps
-      // every equilibrium and restores the stable step.
-      if(stiffness > constant_metric_stiffness * (1 + 1e-9))
-        f *= constant_metric_stiffness / stiffness;
-      overlap_[i] = overlap;
-      nearest_[i] = nearest;
-      if(!flat_[i]) // a constant metric keeps the step the integrator was chosen for
-        f *= b_[i].step_scale;
-      Vec3 delta = integrate_(b_[i].v, f);
-      const double len = bi.m.length(delta);
-      if(len > max_step)
-        delta *= max_step / len;
-      displacement_[i] = delta;
-    });
+    }
+    f += minv_[i] * g;
+    // The integrator's step is stable for the stiffness of a constant
+    // metric. Where the metrics of i and its neighbours differ by a large
+    // factor (a boundary layer), w = 2ab / (a + b) follows the smaller of
+    // the two lengths with up to twice the slope, and M_i^-1 M_j amplifies
+    // the neighbour's term: the stiffness grows several times and the
+    // packing swings with a growing amplitude instead of settling (the
+    // elephant with a 1:10 layer: median step 0.01 -> 0.05 over 300
+    // iterations). Scaling i's force to the constant-metric stiffness keeps
+    // every equilibrium and restores the stable step.
+    if(stiffness > constant_metric_stiffness * (1 + 1e-9))
+      f *= constant_metric_stiffness / stiffness;
+    overlap_[i] = overlap;
+    nearest_[i] = nearest;
+    if(!flat_[i]) // a constant metric keeps the step the integrator was chosen for
+      f *= b_[i].step_scale;
+    Vec3 delta = integrate_(b_[i].v, f);
+    const double len = bi.m.length(delta);
+    const double max_step = traits_.maximum_step();
+    if(len > max_step)
+      delta *= max_step / len;
+    return delta;
+  }
+
+  // Moves every free bubble by its displacement under its constraint, adapts
+  // the step scales and flags a rebuild of the neighbour lists. Returns the
+  // largest step (in the bubbles' metrics, unscaled).
+  double move_bubbles()
+  {
+    const std::size_t n = b_.size();
     const std::size_t nb = Parallel_executor::number_of_blocks(n);
     block_max_.assign(nb, 0.0);
     block_flag_.assign(nb, 0);
