@@ -18,6 +18,19 @@ if [ -n "${ASAN_OPTIONS:-}" ]; then
 fi
 passed=0
 failed=0
+# Under the sanitizers (Debug, -O1: 15-25x slower than Release) the cases
+# that take more than 2 s in Release run in the Release stage only: with
+# them the sanitized run took over 1,500 s and CI's 90 minutes ran out. The
+# unit tests run every stage under the sanitizers, TetGen fault injection
+# included.
+run_heavy=1
+[ -n "${ASAN_OPTIONS:-}" ] && run_heavy=0
+skipped=0
+heavy() { # true where the heavy cases run; counts the blocks skipped
+  [ "$run_heavy" = 1 ] && return 0
+  skipped=$((skipped + 1))
+  return 1
+}
 
 # expect NAME EXPECTED_EXIT STDERR_PATTERN -- command args...
 expect() {
@@ -285,14 +298,16 @@ near() { # VALUE EXPECTED RELATIVE_TOLERANCE
 extreme aniso30 cube.off --metric-const 10000,0,0,11.11111111,0,11.11111111
 extreme aniso100 cube.off --metric-const 40000,0,0,4,0,4
 check "aniso 1:100: most edges of unit metric length" awk -v v="$(json_value "$ext/aniso100.json" in_range_fraction)" 'BEGIN { exit !(v > 0.9) }'
-# oblique 1:100 (fine along (1,1,1)): surface nodes ended on the cube's edges
-# and the boundary front refused them (exit 2) before they were dropped
-extreme rotated100 cube.off --metric-const 3334,3333,3333,3334,3333,3334
-# size 1e-3 at the corner (0,0,0) to 1 (background mesh): no interior or
-# surface node was seeded before (105 nodes, 26% of the edges in range)
-extreme graded1000 cube.off --metric-mesh "$ext/graded_bg.mesh" --metric-sol "$ext/graded_bg_steep.sol"
-check "graded 1:1000: the fine corner is seeded" [ "$(json_value "$ext/graded1000.json" vertices)" -gt 300 ]
-check "graded 1:1000: most edges of unit metric length" awk -v v="$(json_value "$ext/graded1000.json" in_range_fraction)" 'BEGIN { exit !(v > 0.7) }'
+if heavy; then
+  # oblique 1:100 (fine along (1,1,1)): surface nodes ended on the cube's edges
+  # and the boundary front refused them (exit 2) before they were dropped
+  extreme rotated100 cube.off --metric-const 3334,3333,3333,3334,3333,3334
+  # size 1e-3 at the corner (0,0,0) to 1 (background mesh): no interior or
+  # surface node was seeded before (105 nodes, 26% of the edges in range)
+  extreme graded1000 cube.off --metric-mesh "$ext/graded_bg.mesh" --metric-sol "$ext/graded_bg_steep.sol"
+  check "graded 1:1000: the fine corner is seeded" [ "$(json_value "$ext/graded1000.json" vertices)" -gt 300 ]
+  check "graded 1:1000: most edges of unit metric length" awk -v v="$(json_value "$ext/graded1000.json" in_range_fraction)" 'BEGIN { exit !(v > 0.7) }'
+fi
 extreme plate plate.off --metric-const 400,0,0,400,0,20408.16327
 check "plate: volume 0.02" near "$(json_value "$ext/plate.json" volume)" 0.02 1e-9
 # Small features: the small plate's rims are 0.02 apart, a fifth of the size
@@ -309,7 +324,7 @@ check "small features: better worst angle than off" awk -v a="$(json_value "$ext
   -v b="$(json_value "$ext/sfoff.json" worst)" 'BEGIN { exit !(a != "" && b != "" && a > b + 5) }'
 expect small-features-valid 0 "" -- "$tool" eval "$ext/sf.mesh" --size 0.1 --require-valid --quiet
 extreme needle needle.off --size 0.007
-extreme wedge10 wedge10.off --size 0.03
+heavy && extreme wedge10 wedge10.off --size 0.03
 # 1e6 from the origin: the boundary front's volume sum cancelled to noise
 # ("the surface has non-positive volume", exit 3) before it was taken relative
 # to a point of the surface
@@ -320,63 +335,65 @@ check "tiny cube: volume 1e-18" near "$(json_value "$ext/tiny.json" volume)" 1e-
 extreme huge cube_1e6.off --size 1.5e5
 check "huge cube: volume 1e18" near "$(json_value "$ext/huge.json" volume)" 1e18 1e-9
 
-# The UGAWG cube-cylinder with the linear metric, sizes x2 (about 1,000
-# nodes): issue 20's case, where TetGen aborted the whole process in the
-# front's cavity filling
-extreme ugawg-linear cube_cylinder.off --metric-ugawg linear,2
-expect ugawg-linear-auto 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/ugawg-auto.mesh" --metric-ugawg linear,2 \
-  --surface-distance auto --report "$ext/ugawg-auto.json" --threads 1 --quiet
-check "ugawg linear, surface distance auto: diagonal / 200" near \
-  "$(json_value "$ext/ugawg-auto.json" surface_distance_bound)" 0.00866025 1e-5
-check "ugawg linear, surface distance auto: boundary within it" awk \
-  -v d="$(json_value "$ext/ugawg-auto.json" surface_distance)" 'BEGIN { exit !(d != "" && d <= 0.00866025) }'
-# UGAWG polar-1 (a 1:100 layer on the cylinder wall, thinner than the sagitta
-# of the wall's chords), sizes x2: the front gets stuck again and again; its
-# recoveries and the cavity fillers close it well within its work budget (it
-# ran for hours at scale 1 before the budget; then it used all of it until its
-# fallback re-tested only the pairs whose blockers were gone)
-expect ugawg-polar1 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1.mesh" --metric-ugawg polar-1,2 \
-  --report "$ext/polar1.json" --threads 1 --seed 0 --time-limit 300 --quiet
-check "ugawg polar-1: the front closed within its work budget" grep -q '"front_work_limit_reached": false' "$ext/polar1.json"
-expect ugawg-polar1-valid 0 "" -- "$tool" eval "$ext/polar1.mesh" --metric-ugawg polar-1,2 --require-valid --quiet \
-  --report "$ext/polar1-given.json"
-# By default the tangential sizes are reduced to what the wall's chords can
-# follow (Realizable_metric_field_3): measured in the metric as given, the
-# worst mean ratio is far above that of the field meshed as given, whose
-# chords cut across the layer (longest edges about 20)
-check "ugawg polar-1: the report names the limited field" grep -q 'large sizes limited where its frame turns' \
-  "$ext/polar1.json"
-expect ugawg-polar1-as-given 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1-raw.mesh" \
-  --metric-ugawg polar-1,2 --no-realizable-metric --report "$ext/polar1-raw.json" --threads 1 --seed 0 \
-  --time-limit 300 --quiet
-check "ugawg polar-1 as given: the report names the field as given" \
-  bash -c "! grep -q 'limited where its frame turns' '$ext/polar1-raw.json'"
-expect ugawg-polar1-as-given-eval 0 "" -- "$tool" eval "$ext/polar1-raw.mesh" --metric-ugawg polar-1,2 \
-  --require-valid --quiet --report "$ext/polar1-raw-given.json"
-worst_mean_ratio() { grep -oE '"mean_ratio": \{"worst": [0-9.eE+-]+' "$1" | sed 's/.*: //'; }
-longest_edge() { grep -oE '"edge_length": \{"min": [0-9.eE+-]+, "max": [0-9.eE+-]+' "$1" | sed 's/.*: //'; }
-check "ugawg polar-1: worst mean ratio in the given metric above 0.1 (as given: below 0.05)" awk \
-  -v a="$(worst_mean_ratio "$ext/polar1-given.json")" -v b="$(worst_mean_ratio "$ext/polar1-raw-given.json")" \
-  'BEGIN { exit !(a != "" && b != "" && a > 0.1 && b < 0.05) }'
-check "ugawg polar-1: longest edge in the given metric below 3 (as given: above 5)" awk \
-  -v a="$(longest_edge "$ext/polar1-given.json")" -v b="$(longest_edge "$ext/polar1-raw-given.json")" \
-  'BEGIN { exit !(a != "" && b != "" && a < 3 && b > 5) }'
-# UGAWG polar-2 (polar-1 with the tangential size refined near the wall), sizes x2
-expect ugawg-polar2 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar2.mesh" --metric-ugawg polar-2,2 \
-  --threads 1 --seed 0 --time-limit 300 --quiet
-expect ugawg-polar2-valid 0 "" -- "$tool" eval "$ext/polar2.mesh" --metric-ugawg polar-2,2 --require-valid \
-  --report "$ext/polar2.json" --quiet
-check "ugawg polar-2: most edges in range" awk -v f="$(grep -oE '"in_range_fraction": [0-9.eE+-]+' "$ext/polar2.json" | sed 's/.*: //')" \
-  'BEGIN { exit !(f != "" && f >= 0.9) }'
-# UGAWG polar-1 at scale 1: the volume packing of the field as given settled
-# into a slow creep (its largest step stays above the tolerance) and ran to
-# its cap of 400 iterations; it must stop once settled, and say so. (With the
-# tangential sizes limited, the default, it converges.)
-expect ugawg-polar1-packing 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1-full.mesh" --metric-ugawg polar-1 \
-  --report "$ext/polar1-full.json" --threads 2 --seed 0 --no-improve --no-realizable-metric --time-limit 600 --quiet
-check "ugawg polar-1: no packing stage at its cap" awk -v its="$(grep -oE '"packing_iterations": \[[^]]*\]' "$ext/polar1-full.json")" \
-  'BEGIN { gsub(/[^0-9,]/, "", its); n = split(its, a, ","); if (n != 4) exit 1; for (i = 1; i <= 4; ++i) if (a[i] + 0 >= 400) exit 1 }'
-check "ugawg polar-1: the volume stage reports that it settled" grep -qE '"packing_settled": \[[a-z, ]*true\]' "$ext/polar1-full.json"
+if heavy; then
+  # The UGAWG cube-cylinder with the linear metric, sizes x2 (about 1,000
+  # nodes): issue 20's case, where TetGen aborted the whole process in the
+  # front's cavity filling
+  extreme ugawg-linear cube_cylinder.off --metric-ugawg linear,2
+  expect ugawg-linear-auto 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/ugawg-auto.mesh" --metric-ugawg linear,2 \
+    --surface-distance auto --report "$ext/ugawg-auto.json" --threads 1 --quiet
+  check "ugawg linear, surface distance auto: diagonal / 200" near \
+    "$(json_value "$ext/ugawg-auto.json" surface_distance_bound)" 0.00866025 1e-5
+  check "ugawg linear, surface distance auto: boundary within it" awk \
+    -v d="$(json_value "$ext/ugawg-auto.json" surface_distance)" 'BEGIN { exit !(d != "" && d <= 0.00866025) }'
+  # UGAWG polar-1 (a 1:100 layer on the cylinder wall, thinner than the sagitta
+  # of the wall's chords), sizes x2: the front gets stuck again and again; its
+  # recoveries and the cavity fillers close it well within its work budget (it
+  # ran for hours at scale 1 before the budget; then it used all of it until its
+  # fallback re-tested only the pairs whose blockers were gone)
+  expect ugawg-polar1 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1.mesh" --metric-ugawg polar-1,2 \
+    --report "$ext/polar1.json" --threads 1 --seed 0 --time-limit 300 --quiet
+  check "ugawg polar-1: the front closed within its work budget" grep -q '"front_work_limit_reached": false' "$ext/polar1.json"
+  expect ugawg-polar1-valid 0 "" -- "$tool" eval "$ext/polar1.mesh" --metric-ugawg polar-1,2 --require-valid --quiet \
+    --report "$ext/polar1-given.json"
+  # By default the tangential sizes are reduced to what the wall's chords can
+  # follow (Realizable_metric_field_3): measured in the metric as given, the
+  # worst mean ratio is far above that of the field meshed as given, whose
+  # chords cut across the layer (longest edges about 20)
+  check "ugawg polar-1: the report names the limited field" grep -q 'large sizes limited where its frame turns' \
+    "$ext/polar1.json"
+  expect ugawg-polar1-as-given 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1-raw.mesh" \
+    --metric-ugawg polar-1,2 --no-realizable-metric --report "$ext/polar1-raw.json" --threads 1 --seed 0 \
+    --time-limit 300 --quiet
+  check "ugawg polar-1 as given: the report names the field as given" \
+    bash -c "! grep -q 'limited where its frame turns' '$ext/polar1-raw.json'"
+  expect ugawg-polar1-as-given-eval 0 "" -- "$tool" eval "$ext/polar1-raw.mesh" --metric-ugawg polar-1,2 \
+    --require-valid --quiet --report "$ext/polar1-raw-given.json"
+  worst_mean_ratio() { grep -oE '"mean_ratio": \{"worst": [0-9.eE+-]+' "$1" | sed 's/.*: //'; }
+  longest_edge() { grep -oE '"edge_length": \{"min": [0-9.eE+-]+, "max": [0-9.eE+-]+' "$1" | sed 's/.*: //'; }
+  check "ugawg polar-1: worst mean ratio in the given metric above 0.1 (as given: below 0.05)" awk \
+    -v a="$(worst_mean_ratio "$ext/polar1-given.json")" -v b="$(worst_mean_ratio "$ext/polar1-raw-given.json")" \
+    'BEGIN { exit !(a != "" && b != "" && a > 0.1 && b < 0.05) }'
+  check "ugawg polar-1: longest edge in the given metric below 3 (as given: above 5)" awk \
+    -v a="$(longest_edge "$ext/polar1-given.json")" -v b="$(longest_edge "$ext/polar1-raw-given.json")" \
+    'BEGIN { exit !(a != "" && b != "" && a < 3 && b > 5) }'
+  # UGAWG polar-2 (polar-1 with the tangential size refined near the wall), sizes x2
+  expect ugawg-polar2 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar2.mesh" --metric-ugawg polar-2,2 \
+    --threads 1 --seed 0 --time-limit 300 --quiet
+  expect ugawg-polar2-valid 0 "" -- "$tool" eval "$ext/polar2.mesh" --metric-ugawg polar-2,2 --require-valid \
+    --report "$ext/polar2.json" --quiet
+  check "ugawg polar-2: most edges in range" awk -v f="$(grep -oE '"in_range_fraction": [0-9.eE+-]+' "$ext/polar2.json" | sed 's/.*: //')" \
+    'BEGIN { exit !(f != "" && f >= 0.9) }'
+  # UGAWG polar-1 at scale 1: the volume packing of the field as given settled
+  # into a slow creep (its largest step stays above the tolerance) and ran to
+  # its cap of 400 iterations; it must stop once settled, and say so. (With the
+  # tangential sizes limited, the default, it converges.)
+  expect ugawg-polar1-packing 0 "" -- "$tool" "$ext/cube_cylinder.off" -o "$ext/polar1-full.mesh" --metric-ugawg polar-1 \
+    --report "$ext/polar1-full.json" --threads 2 --seed 0 --no-improve --no-realizable-metric --time-limit 600 --quiet
+  check "ugawg polar-1: no packing stage at its cap" awk -v its="$(grep -oE '"packing_iterations": \[[^]]*\]' "$ext/polar1-full.json")" \
+    'BEGIN { gsub(/[^0-9,]/, "", its); n = split(its, a, ","); if (n != 4) exit 1; for (i = 1; i <= 4; ++i) if (a[i] + 0 >= 400) exit 1 }'
+  check "ugawg polar-1: the volume stage reports that it settled" grep -qE '"packing_settled": \[[a-z, ]*true\]' "$ext/polar1-full.json"
+fi
 # Surface distance: the cylinder wall of the cube-cylinder at a coarse size
 # (0.25, twice the wall's radius over 3): the boundary stays within the bound
 # (sampled over the triangles), and 'off' meshes the metric as given
@@ -406,52 +423,54 @@ expect ugawg-bad-scale 2 "scale must be a positive number" -- "$tool" "$ext/cube
   --metric-ugawg linear,-1 --quiet
 check "no output after surface-distance refusals" [ ! -e "$ext/x.mesh" ]
 
-# Fault injection (tetgen_isolated.h): every TetGen call aborts, crashes,
-# fails or returns a wrong result. The run gives a valid mesh (the front
-# recovers by its own means) or exit 3 with nothing written; never a signal.
-for fault in abort crash error wrong; do
-  rm -f "$ext/fault.mesh" "$ext/fault.json"
-  BUBBLE_MESH_3_INJECT_FAULT=$fault "$tool" "$ext/cube_cylinder.off" -o "$ext/fault.mesh" --metric-ugawg linear,2 \
-    --threads 1 --quiet --report "$ext/fault.json" >"$work/out.txt" 2>"$work/err.txt"
+if heavy; then
+  # Fault injection (tetgen_isolated.h): every TetGen call aborts, crashes,
+  # fails or returns a wrong result. The run gives a valid mesh (the front
+  # recovers by its own means) or exit 3 with nothing written; never a signal.
+  for fault in abort crash error wrong; do
+    rm -f "$ext/fault.mesh" "$ext/fault.json"
+    BUBBLE_MESH_3_INJECT_FAULT=$fault "$tool" "$ext/cube_cylinder.off" -o "$ext/fault.mesh" --metric-ugawg linear,2 \
+      --threads 1 --quiet --report "$ext/fault.json" >"$work/out.txt" 2>"$work/err.txt"
+    code=$?
+    if [ "$code" -eq 0 ]; then
+      expect "fault-$fault-valid" 0 "" -- "$tool" eval "$ext/fault.mesh" --require-valid --quiet --metric-ugawg linear,2
+      check "fault-$fault: TetGen was not used" [ "$(json_value "$ext/fault.json" tetgen_fills)" = "0" ]
+    else
+      check "fault-$fault: exit 3, not $code" [ "$code" -eq 3 ]
+      check "fault-$fault: one line naming TetGen" grep -q "TetGen" "$work/err.txt"
+      check "fault-$fault: nothing written" [ ! -e "$ext/fault.mesh" -a ! -e "$ext/fault.json" ]
+    fi
+  done
+
+  # A TetGen that never answers (fault "hang"): Ctrl-C still ends the run at
+  # once, with exit 130, nothing written and TetGen's process gone (the parent
+  # polls its stop flag while it waits for TetGen, then kills and reaps it).
+  child_of() { # PID -> the first child process's pid (from /proc: no procps needed)
+    cat /proc/[0-9]*/stat 2>/dev/null | awk -v p="$1" '{ pid = $1; sub(/^.*\) /, ""); if ($2 == p) print pid }' |
+      head -n 1
+  }
+  process_gone() { [ -z "$1" ] || ! kill -0 "$1" 2>/dev/null; }
+  rm -f "$ext/fault.mesh"
+  BUBBLE_MESH_3_INJECT_FAULT=hang "$tool" "$ext/cube_cylinder.off" -o "$ext/fault.mesh" --metric-ugawg linear,2 \
+    --threads 1 --quiet >"$work/out.txt" 2>"$work/err.txt" &
+  hang_pid=$!
+  child=""
+  for _ in $(seq 1 600); do # up to 60 s until TetGen's process exists
+    child=$(child_of "$hang_pid")
+    [ -n "$child" ] && break
+    kill -0 "$hang_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  check "fault-hang: TetGen's process started" [ -n "$child" ]
+  kill -INT "$hang_pid" 2>/dev/null
+  stopped_at=$(date +%s)
+  wait "$hang_pid"
   code=$?
-  if [ "$code" -eq 0 ]; then
-    expect "fault-$fault-valid" 0 "" -- "$tool" eval "$ext/fault.mesh" --require-valid --quiet --metric-ugawg linear,2
-    check "fault-$fault: TetGen was not used" [ "$(json_value "$ext/fault.json" tetgen_fills)" = "0" ]
-  else
-    check "fault-$fault: exit 3, not $code" [ "$code" -eq 3 ]
-    check "fault-$fault: one line naming TetGen" grep -q "TetGen" "$work/err.txt"
-    check "fault-$fault: nothing written" [ ! -e "$ext/fault.mesh" -a ! -e "$ext/fault.json" ]
-  fi
-done
+  check "fault-hang: exit 130 after Ctrl-C, not $code" [ "$code" -eq 130 ]
+  check "fault-hang: ended within 5 s of Ctrl-C" [ $(( $(date +%s) - stopped_at )) -le 5 ]
+  check "fault-hang: no TetGen process left" process_gone "$child"
+  check "fault-hang: nothing written" [ ! -e "$ext/fault.mesh" ]
+fi
 
-# A TetGen that never answers (fault "hang"): Ctrl-C still ends the run at
-# once, with exit 130, nothing written and TetGen's process gone (the parent
-# polls its stop flag while it waits for TetGen, then kills and reaps it).
-child_of() { # PID -> the first child process's pid (from /proc: no procps needed)
-  cat /proc/[0-9]*/stat 2>/dev/null | awk -v p="$1" '{ pid = $1; sub(/^.*\) /, ""); if ($2 == p) print pid }' |
-    head -n 1
-}
-process_gone() { [ -z "$1" ] || ! kill -0 "$1" 2>/dev/null; }
-rm -f "$ext/fault.mesh"
-BUBBLE_MESH_3_INJECT_FAULT=hang "$tool" "$ext/cube_cylinder.off" -o "$ext/fault.mesh" --metric-ugawg linear,2 \
-  --threads 1 --quiet >"$work/out.txt" 2>"$work/err.txt" &
-hang_pid=$!
-child=""
-for _ in $(seq 1 600); do # up to 60 s until TetGen's process exists
-  child=$(child_of "$hang_pid")
-  [ -n "$child" ] && break
-  kill -0 "$hang_pid" 2>/dev/null || break
-  sleep 0.1
-done
-check "fault-hang: TetGen's process started" [ -n "$child" ]
-kill -INT "$hang_pid" 2>/dev/null
-stopped_at=$(date +%s)
-wait "$hang_pid"
-code=$?
-check "fault-hang: exit 130 after Ctrl-C, not $code" [ "$code" -eq 130 ]
-check "fault-hang: ended within 5 s of Ctrl-C" [ $(( $(date +%s) - stopped_at )) -le 5 ]
-check "fault-hang: no TetGen process left" process_gone "$child"
-check "fault-hang: nothing written" [ ! -e "$ext/fault.mesh" ]
-
-echo "$passed passed, $failed failed"
+echo "$passed passed, $failed failed$([ "$skipped" -gt 0 ] && echo ", $skipped heavy blocks left to the Release run")"
 [ "$failed" -eq 0 ]
