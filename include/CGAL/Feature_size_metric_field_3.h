@@ -64,6 +64,11 @@ namespace CGAL {
 /// given as `Facing_pair`s), unless a corner or curve is within twice that
 /// distance of `s` (a sharp wedge is thin near its edge too, but finer
 /// elements there do not make its tets better);
+/// and the distance from a curve to a patch it does not bound, at samples
+/// `s` of the curve whose perpendicular falls inside a face of that patch
+/// (given as `Facing_pair`s: a rim running along another wall), unless a
+/// corner is within twice that distance of `s` (a curve leaving a patch at
+/// a corner meets it at an angle no refinement improves);
 /// (a pair whose distance is at least 1 in the user's metric at `s` counts
 /// for nothing: an anisotropic metric fine across a thin plate resolves its
 /// rims already)
@@ -110,6 +115,8 @@ public:
     std::size_t floored_samples = 0; ///< samples whose feature size was raised to the floor
     std::size_t thickness_samples = 0; ///< facing pairs compared (thin-part candidates)
     std::size_t thin_samples = 0;      ///< of those, the ones that ask for smaller sizes (counted in refined_samples)
+    std::size_t near_patch_samples = 0; ///< curve samples near a patch they do not bound (compared)
+    std::size_t near_patch_refined = 0; ///< of those, the ones that ask for smaller sizes (counted in refined_samples)
     double smallest_size = std::numeric_limits<double>::infinity(); ///< smallest feature size asked
     double smallest_ratio = std::numeric_limits<double>::infinity(); ///< its smallest ratio to the user's size
     double seconds = 0;                                              ///< time the construction took
@@ -119,12 +126,14 @@ public:
   explicit Feature_size_metric_field_3(const MetricField& field) : field_(field), data_(std::make_shared<Data>()) {}
 
   /// `corners` and `curves` are the domain's features, `facing` the pairs
-  /// across its thin parts; `gradation` the growth
+  /// across its thin parts, `near_patch` the curve points paired with the
+  /// nearest point of a patch they do not bound; `gradation` the growth
   /// of the size asked per unit distance from a small feature (> 0). Throws
   /// `Bubble_mesh_3::Invalid_input` for a bad gradation or curve.
   Feature_size_metric_field_3(const MetricField& field, const std::vector<Point>& corners,
                               const std::vector<Curve>& curves, double gradation = 0.5,
-                              const std::vector<Facing_pair>& facing = {})
+                              const std::vector<Facing_pair>& facing = {},
+                              const std::vector<Facing_pair>& near_patch = {})
       : field_(field), data_(std::make_shared<Data>())
   {
     if(!(gradation > 0) || !std::isfinite(gradation))
@@ -138,7 +147,7 @@ public:
     }
     data_->gradation = gradation;
     const auto t0 = std::chrono::steady_clock::now();
-    build(corners, curves, facing);
+    build(corners, curves, facing, near_patch);
     data_->statistics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
@@ -259,7 +268,7 @@ private:
   }
 
   void build(const std::vector<Point>& corners, const std::vector<Curve>& curves,
-             const std::vector<Facing_pair>& facing)
+             const std::vector<Facing_pair>& facing, const std::vector<Facing_pair>& near_patch)
   {
     Data& d = *data_;
     std::vector<double> length;
@@ -271,6 +280,7 @@ private:
     if(!samples.empty())
       refining = refining_sources(samples, corners, curves, length, largest_reach);
     thin_part_sources(samples, facing, refining, largest_reach);
+    near_patch_sources(corners, near_patch, refining, largest_reach);
     if(refining.empty())
       return;
     index_sources(refining, largest_reach);
@@ -484,6 +494,52 @@ private:
     }
   }
 
+  /// the curve points nearer to a patch they do not bound than the user's
+  /// size (and its metric), farther than twice that from every corner, as
+  /// sources of that distance (floored like the others), appended to
+  /// `refining`
+  void near_patch_sources(const std::vector<Point>& corners, const std::vector<Facing_pair>& near_patch,
+                          std::vector<Source>& refining, double& largest_reach)
+  {
+    Data& d = *data_;
+    d.statistics.near_patch_samples = near_patch.size();
+    if(near_patch.empty())
+      return;
+    std::vector<Indexed_point> indexed;
+    for(std::size_t i = 0; i < corners.size(); ++i)
+      indexed.emplace_back(EK::Point_3(corners[i][0], corners[i][1], corners[i][2]), int(i));
+    Tree tree(indexed.begin(), indexed.end());
+    if(!indexed.empty())
+      tree.build();
+    std::vector<Indexed_point> found;
+    for(const Facing_pair& pair : near_patch) {
+      const Eigen::Vector3d p = vec(pair.p), q = vec(pair.q);
+      const double t = (q - p).norm();
+      const Metric user = field_(Point_3(p[0], p[1], p[2]));
+      const double h = sizes_of(user).first;
+      if(!(t < h) || !(user.length(Eigen::Vector3d(q - p)) < 1))
+        continue;
+      if(!indexed.empty()) {
+        found.clear();
+        tree.search(std::back_inserter(found), Sphere(EK::Point_3(p[0], p[1], p[2]), 2 * t));
+        if(!found.empty())
+          continue;
+      }
+      ++d.statistics.refined_samples;
+      ++d.statistics.near_patch_refined;
+      double a = t;
+      const double floor = smallest_relative_size() * h;
+      if(a < floor) {
+        a = floor;
+        ++d.statistics.floored_samples;
+      }
+      d.statistics.smallest_size = std::min(d.statistics.smallest_size, a);
+      d.statistics.smallest_ratio = std::min(d.statistics.smallest_ratio, a / h);
+      refining.push_back(Source{p, a, h});
+      largest_reach = std::max(largest_reach, reach(refining.back(), h));
+    }
+  }
+
   /// keeps the sources no other one implies, listed in hash-grid cells each
   /// pruned to the sources that can give its smallest size
   void index_sources(std::vector<Source>& refining, double largest_reach)
@@ -636,7 +692,7 @@ make_feature_size_metric_field_3(const MeshDomain& domain, const MetricField& fi
       c.points.push_back(point(std::get<2>(t).first));
     curves.push_back(std::move(c));
   }
-  std::vector<typename Field::Facing_pair> facing;
+  std::vector<typename Field::Facing_pair> facing, near_patch;
   if constexpr(Bubble_mesh_3::internal::packing::Has_polyhedra<MeshDomain>::value) {
     auto sizes = [&](const std::array<double, 3>& p) {
       const auto m = field(Point_3(p[0], p[1], p[2]));
@@ -646,12 +702,16 @@ make_feature_size_metric_field_3(const MeshDomain& domain, const MetricField& fi
     };
     // rays half the largest size apart (the thickness is a property of the
     // shape, not of the metric's directions), as long as the largest size
+    const auto surface = Bubble_mesh_3::internal::front::boundary_surface_from_polyhedral_domain(domain);
     facing = Bubble_mesh_3::internal::facing_pairs(
-        Bubble_mesh_3::internal::front::boundary_surface_from_polyhedral_domain(domain),
-        [&](const std::array<double, 3>& p) { return 0.5 * sizes(p).first; },
+        surface, [&](const std::array<double, 3>& p) { return 0.5 * sizes(p).first; },
+        [&](const std::array<double, 3>& p) { return sizes(p).first; });
+    // curve points as far apart as the rays, as far reaching
+    near_patch = Bubble_mesh_3::internal::curve_patch_pairs(
+        surface, [&](const std::array<double, 3>& p) { return 0.5 * sizes(p).first; },
         [&](const std::array<double, 3>& p) { return sizes(p).first; });
   }
-  return Field(field, corners, curves, gradation, facing);
+  return Field(field, corners, curves, gradation, facing, near_patch);
 }
 
 

@@ -539,6 +539,60 @@ TEST(FeatureSizeField, ThinPartsRefinedToTheirThickness)
 }
 
 
+// A curve running along a patch it does not bound (a ridge 0.1 above a
+// floor): its points are paired with their feet on the floor, not with the
+// two faces of the ridge itself; the field refines to that distance, not
+// where a corner is within twice it, and not where the metric resolves it.
+TEST(FeatureSizeField, CurveNearAPatchItDoesNotBoundIsRefinedToTheDistance)
+{
+  typedef CGAL::Constant_metric_field_3<K> User;
+  typedef CGAL::Feature_size_metric_field_3<User> Field;
+  CGAL::Bubble_mesh_3::internal::front::Boundary_surface s;
+  // floor: patch 1, the square [0, 4]^2 at z = 0; ridge from (2, 1, 0.1) to
+  // (2, 3, 0.1) between patches 2 and 3, whose faces rise away from the floor
+  s.points = {{{0, 0, 0}}, {{4, 0, 0}}, {{4, 4, 0}}, {{0, 4, 0}}, {{2, 1, 0.1}}, {{2, 3, 0.1}}, {{1, 2, 2}}, {{3, 2, 2}}};
+  s.triangles = {{{0, 1, 2}}, {{0, 2, 3}}, {{4, 5, 6}}, {{5, 4, 7}}};
+  s.patches = {1, 1, 2, 3};
+  s.feature_edges = {{{4, 5}}};
+  auto pairs_of = [&](double reach) {
+    return CGAL::Bubble_mesh_3::internal::curve_patch_pairs(
+        s, [](const std::array<double, 3>&) { return 0.25; }, [&](const std::array<double, 3>&) { return reach; });
+  };
+  const auto pairs = pairs_of(1.0);
+  ASSERT_EQ(pairs.size(), 8u); // the ridge of length 2, points 0.25 apart
+  for(const auto& pr : pairs) {
+    EXPECT_NEAR(pr.p[0], 2, 1e-12);
+    EXPECT_NEAR(pr.p[2], 0.1, 1e-12);
+    EXPECT_NEAR(pr.q[0], pr.p[0], 1e-12); // the foot on the floor
+    EXPECT_NEAR(pr.q[1], pr.p[1], 1e-12);
+    EXPECT_NEAR(pr.q[2], 0, 1e-12);
+  }
+  EXPECT_TRUE(pairs_of(0.09).empty()); // beyond the reach
+  // the same faces as one patch with the ridge's: nothing to compare
+  s.patches = {2, 2, 2, 3};
+  EXPECT_TRUE(pairs_of(1.0).empty());
+  s.patches = {1, 1, 2, 3};
+
+  const User user(Metric_3::isotropic(1.0));
+  const Field refined(user, {}, {}, 0.5, {}, pairs);
+  ASSERT_TRUE(refined.refines());
+  EXPECT_EQ(refined.statistics().near_patch_samples, 8u);
+  EXPECT_EQ(refined.statistics().near_patch_refined, 8u);
+  EXPECT_NEAR(refined.feature_size(K::Point_3(2, 2.125, 0.1)), 0.1, 1e-9);
+  EXPECT_GE(refined.feature_size(K::Point_3(2, 2, 3)), 1.0); // far away: the user's size
+  // a corner at the ridge's end: the points within 0.2 of it do not count
+  Field::Curve ridge;
+  ridge.points = {{{2, 1, 0.1}}, {{2, 3, 0.1}}};
+  ridge.first_corner = 0;
+  ridge.last_corner = 1;
+  const Field with_corners(user, {{{2, 1, 0.1}}, {{2, 3, 0.1}}}, {ridge}, 0.5, {}, pairs);
+  EXPECT_EQ(with_corners.statistics().near_patch_refined, 6u); // the points 0.125 from either end go
+  // a metric of size 0.05 across the gap resolves it already
+  const User fine_across(Metric_3::from_entries(1, 0, 0, 1, 0, 400));
+  EXPECT_EQ(CGAL::Feature_size_metric_field_3<User>(fine_across, {}, {}, 0.5, {}, pairs).statistics().near_patch_refined,
+            0u);
+}
+
 // The principal size of `m` along the unit direction `d` (d an eigenvector).
 double size_along(const Metric_3& m, const Vector& d) { return 1 / std::sqrt(d.dot(m.matrix() * d)); }
 

@@ -27,6 +27,8 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace CGAL {
@@ -138,6 +140,111 @@ std::vector<Facing_pair> facing_pairs(const front::Boundary_surface& surface, co
           const K::Point_3 q = p - first * n;
           pairs.push_back(Facing_pair{pa, {{q.x(), q.y(), q.z()}}});
         }
+  }
+  return pairs;
+}
+
+/// The points of the feature curves of `surface` (its sharp edges) paired
+/// with the nearest point of a patch that does not bound them, where the
+/// perpendicular from the curve point falls inside a face of that patch
+/// closer than `reach(p)`: a curve running along a wall it is not part of
+/// (the cheese's CSG walls leave a hole's rim 0.00012 from the face of
+/// another hole; every tet below 10 degrees there joined a node of that rim
+/// with a face of that wall). Neither the thickness rays (a curve is near)
+/// nor the curve and corner samples (no curve on the wall there) see such a
+/// pair. Curve points are `spacing(p)` apart at most; at most
+/// `maximum_samples` of them (the spacing is widened uniformly beyond that).
+template <typename Spacing, typename Reach>
+std::vector<Facing_pair> curve_patch_pairs(const front::Boundary_surface& surface, const Spacing& spacing,
+                                           const Reach& reach, std::size_t maximum_samples = 100000)
+{
+  typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+  typedef std::vector<K::Triangle_3>::const_iterator Iterator;
+  typedef CGAL::AABB_triangle_primitive<K, Iterator> Primitive;
+  typedef CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>> Tree;
+  typedef std::array<double, 3> Point;
+  std::vector<Facing_pair> pairs;
+  if(surface.triangles.empty() || surface.feature_edges.empty())
+    return pairs;
+  // the patches on either side of each edge
+  std::map<std::pair<int, int>, std::array<int, 2>> sides;
+  for(std::size_t f = 0; f < surface.triangles.size(); ++f)
+    for(int k = 0; k < 3; ++k) {
+      const int a = surface.triangles[f][std::size_t(k)], b = surface.triangles[f][std::size_t((k + 1) % 3)];
+      auto it = sides.emplace(std::make_pair(std::min(a, b), std::max(a, b)), std::array<int, 2>{{-1, -1}}).first;
+      it->second[it->second[0] < 0 ? 0 : 1] = surface.patches[f];
+    }
+  std::vector<K::Triangle_3> triangles;
+  std::vector<K::Vector_3> normals;
+  triangles.reserve(surface.triangles.size());
+  for(const auto& t : surface.triangles) {
+    const auto& a = surface.points[std::size_t(t[0])];
+    const auto& b = surface.points[std::size_t(t[1])];
+    const auto& c = surface.points[std::size_t(t[2])];
+    triangles.emplace_back(K::Point_3(a[0], a[1], a[2]), K::Point_3(b[0], b[1], b[2]), K::Point_3(c[0], c[1], c[2]));
+    const K::Vector_3 n = CGAL::cross_product(triangles.back()[1] - triangles.back()[0],
+                                              triangles.back()[2] - triangles.back()[0]);
+    const double l = std::sqrt(CGAL::to_double(n.squared_length()));
+    normals.push_back(l > 0 ? n / l : K::Vector_3(0, 0, 0));
+  }
+  // points per edge, from the spacing at its midpoint
+  std::vector<int> pieces;
+  double total = 0;
+  for(const auto& e : surface.feature_edges) {
+    const Point &a = surface.points[std::size_t(e[0])], &b = surface.points[std::size_t(e[1])];
+    const double length = std::sqrt(CGAL::square(b[0] - a[0]) + CGAL::square(b[1] - a[1]) + CGAL::square(b[2] - a[2]));
+    const double s = spacing(Point{{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2}});
+    pieces.push_back(int(std::min(1000.0, (s > 0 && std::isfinite(s)) ? std::max(1.0, std::ceil(length / s)) : 1.0)));
+    total += pieces.back();
+  }
+  if(total > double(maximum_samples))
+    for(int& k : pieces)
+      k = std::max(1, int(std::floor(double(k) * double(maximum_samples) / total)));
+  Tree tree(triangles.begin(), triangles.end());
+  tree.build();
+  std::vector<Primitive::Id> near;
+  for(std::size_t i = 0; i < surface.feature_edges.size(); ++i) {
+    const auto& e = surface.feature_edges[i];
+    const auto it = sides.find(std::make_pair(std::min(e[0], e[1]), std::max(e[0], e[1])));
+    if(it == sides.end())
+      continue;
+    const K::Point_3 a(surface.points[std::size_t(e[0])][0], surface.points[std::size_t(e[0])][1],
+                       surface.points[std::size_t(e[0])][2]);
+    const K::Vector_3 ab = K::Point_3(surface.points[std::size_t(e[1])][0], surface.points[std::size_t(e[1])][1],
+                                      surface.points[std::size_t(e[1])][2]) - a;
+    for(int j = 0; j < pieces[i]; ++j) {
+      const K::Point_3 p = a + ((j + 0.5) / pieces[i]) * ab;
+      const Point pa{{p.x(), p.y(), p.z()}};
+      const double r = reach(pa);
+      if(!(r > 0))
+        continue;
+      near.clear();
+      tree.all_intersected_primitives(K::Iso_cuboid_3(p.x() - r, p.y() - r, p.z() - r, p.x() + r, p.y() + r, p.z() + r),
+                                      std::back_inserter(near));
+      double best = r;
+      K::Point_3 foot = p;
+      for(const Iterator& id : near) {
+        const std::size_t g = std::size_t(id - triangles.begin());
+        const int patch = surface.patches[g];
+        if(patch == it->second[0] || patch == it->second[1] || normals[g] == K::Vector_3(0, 0, 0))
+          continue;
+        const K::Triangle_3& t = triangles[g];
+        const double d = CGAL::to_double(normals[g] * (p - t[0]));
+        if(!(std::abs(d) < best))
+          continue;
+        const K::Point_3 q = p - d * normals[g];
+        // inside the face: q on the inner side of its three edges
+        bool inside = true;
+        for(int k = 0; k < 3 && inside; ++k)
+          inside = CGAL::cross_product(t[(k + 1) % 3] - t[k], q - t[k]) * normals[g] > 0;
+        if(inside) {
+          best = std::abs(d);
+          foot = q;
+        }
+      }
+      if(best < r)
+        pairs.push_back(Facing_pair{pa, {{foot.x(), foot.y(), foot.z()}}});
+    }
   }
   return pairs;
 }

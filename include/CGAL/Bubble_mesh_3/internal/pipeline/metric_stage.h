@@ -47,9 +47,10 @@ void report_feature_sizes(const CGAL::Feature_size_metric_field_3<MetricField>& 
   rep.feature_size_seconds = st.seconds;
   if(control.says() && field.refines()) {
     std::ostringstream m;
-    m << "small features: " << (st.refined_samples - st.thin_samples) << " of " << st.samples
+    m << "small features: " << (st.refined_samples - st.thin_samples - st.near_patch_refined) << " of " << st.samples
       << " corner and curve samples closer than the metric's size, " << st.thin_samples << " of "
-      << st.thickness_samples << " surface samples across thinner parts, sizes down to " << st.smallest_size
+      << st.thickness_samples << " surface samples across thinner parts, " << st.near_patch_refined << " of "
+      << st.near_patch_samples << " curve samples near a patch they do not bound, sizes down to " << st.smallest_size
       << " (" << st.smallest_ratio << " of the metric's)";
     if(st.floored_samples > 0)
       m << ", " << st.floored_samples << " raised to " << field.smallest_relative_size() << " of it";
