@@ -340,7 +340,6 @@ private:
                                        const std::vector<Curve>& curves, const std::vector<double>& length,
                                        double& largest_reach)
   {
-    Data& d = *data_;
     // the feature size of each sample, from the samples within the user's
     // largest size there
     std::vector<Indexed_point> indexed;
@@ -426,20 +425,27 @@ private:
         if(counts && user.length(Eigen::Vector3d(t.p - s.p)) < 1)
           a = std::min(a, (s.p - t.p).norm());
       }
-      if(!(a < h))
-        continue;
-      ++d.statistics.refined_samples;
-      const double floor = smallest_relative_size() * h;
-      if(a < floor) {
-        a = floor;
-        ++d.statistics.floored_samples;
-      }
-      d.statistics.smallest_size = std::min(d.statistics.smallest_size, a);
-      d.statistics.smallest_ratio = std::min(d.statistics.smallest_ratio, a / h);
-      refining.push_back(Source{s.p, a, h});
-      largest_reach = std::max(largest_reach, reach(refining.back(), h));
+      if(a < h)
+        add_source(s.p, a, h, refining, largest_reach);
     }
     return refining;
+  }
+
+  /// appends a source of size `a` (raised to the floor) at `p`, where the
+  /// user's largest size is `h`, counted in the statistics
+  void add_source(const Eigen::Vector3d& p, double a, double h, std::vector<Source>& refining, double& largest_reach)
+  {
+    Statistics& st = data_->statistics;
+    ++st.refined_samples;
+    const double floor = smallest_relative_size() * h;
+    if(a < floor) {
+      a = floor;
+      ++st.floored_samples;
+    }
+    st.smallest_size = std::min(st.smallest_size, a);
+    st.smallest_ratio = std::min(st.smallest_ratio, a / h);
+    refining.push_back(Source{p, a, h});
+    largest_reach = std::max(largest_reach, reach(refining.back(), h));
   }
 
   /// the facing pairs across parts thinner than the user's size (and its
@@ -479,18 +485,8 @@ private:
         if(!found.empty())
           continue;
       }
-      ++d.statistics.refined_samples;
       ++d.statistics.thin_samples;
-      double a = t;
-      const double floor = smallest_relative_size() * h;
-      if(a < floor) {
-        a = floor;
-        ++d.statistics.floored_samples;
-      }
-      d.statistics.smallest_size = std::min(d.statistics.smallest_size, a);
-      d.statistics.smallest_ratio = std::min(d.statistics.smallest_ratio, a / h);
-      refining.push_back(Source{p, a, h});
-      largest_reach = std::max(largest_reach, reach(refining.back(), h));
+      add_source(p, t, h, refining, largest_reach);
     }
   }
 
@@ -525,18 +521,8 @@ private:
         if(!found.empty())
           continue;
       }
-      ++d.statistics.refined_samples;
       ++d.statistics.near_patch_refined;
-      double a = t;
-      const double floor = smallest_relative_size() * h;
-      if(a < floor) {
-        a = floor;
-        ++d.statistics.floored_samples;
-      }
-      d.statistics.smallest_size = std::min(d.statistics.smallest_size, a);
-      d.statistics.smallest_ratio = std::min(d.statistics.smallest_ratio, a / h);
-      refining.push_back(Source{p, a, h});
-      largest_reach = std::max(largest_reach, reach(refining.back(), h));
+      add_source(p, t, h, refining, largest_reach);
     }
   }
 
