@@ -40,6 +40,30 @@ struct Facing_pair {
   std::array<double, 3> p, q;
 };
 
+/// the faces of `surface` as triangles, with their unit normals (zero for a
+/// degenerate face)
+inline void surface_triangles(const front::Boundary_surface& surface,
+                              std::vector<CGAL::Exact_predicates_inexact_constructions_kernel::Triangle_3>& triangles,
+                              std::vector<CGAL::Exact_predicates_inexact_constructions_kernel::Vector_3>& normals)
+{
+  typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+  auto point = [&](int i) {
+    const auto& p = surface.points[std::size_t(i)];
+    return K::Point_3(p[0], p[1], p[2]);
+  };
+  triangles.clear();
+  normals.clear();
+  triangles.reserve(surface.triangles.size());
+  normals.reserve(surface.triangles.size());
+  for(const auto& t : surface.triangles) {
+    triangles.emplace_back(point(t[0]), point(t[1]), point(t[2]));
+    const K::Vector_3 n = CGAL::cross_product(triangles.back()[1] - triangles.back()[0],
+                                              triangles.back()[2] - triangles.back()[0]);
+    const double l = std::sqrt(CGAL::to_double(n.squared_length()));
+    normals.push_back(l > 0 ? n / l : K::Vector_3(0, 0, 0));
+  }
+}
+
 /// The facing pairs of `surface` (outward oriented, as
 /// `front::boundary_surface_from_polyhedral_domain` returns it) closer than
 /// `reach(p)`. `spacing(p)` is the largest distance between the ray origins
@@ -60,21 +84,9 @@ std::vector<Facing_pair> facing_pairs(const front::Boundary_surface& surface, co
   const std::size_t nf = surface.triangles.size();
   if(nf == 0)
     return pairs;
-  auto point = [&](int i) {
-    const auto& p = surface.points[std::size_t(i)];
-    return K::Point_3(p[0], p[1], p[2]);
-  };
   std::vector<K::Triangle_3> triangles;
   std::vector<K::Vector_3> normals;
-  triangles.reserve(nf);
-  normals.reserve(nf);
-  for(const auto& t : surface.triangles) {
-    triangles.emplace_back(point(t[0]), point(t[1]), point(t[2]));
-    const K::Vector_3 n = CGAL::cross_product(triangles.back()[1] - triangles.back()[0],
-                                              triangles.back()[2] - triangles.back()[0]);
-    const double l = std::sqrt(CGAL::to_double(n.squared_length()));
-    normals.push_back(l > 0 ? n / l : K::Vector_3(0, 0, 0));
-  }
+  surface_triangles(surface, triangles, normals);
   // subdivision of each face: k x k sub-triangles, k from the spacing at its centre
   std::vector<int> divisions(nf, 1);
   double total = 0;
@@ -176,17 +188,7 @@ std::vector<Facing_pair> curve_patch_pairs(const front::Boundary_surface& surfac
     }
   std::vector<K::Triangle_3> triangles;
   std::vector<K::Vector_3> normals;
-  triangles.reserve(surface.triangles.size());
-  for(const auto& t : surface.triangles) {
-    const auto& a = surface.points[std::size_t(t[0])];
-    const auto& b = surface.points[std::size_t(t[1])];
-    const auto& c = surface.points[std::size_t(t[2])];
-    triangles.emplace_back(K::Point_3(a[0], a[1], a[2]), K::Point_3(b[0], b[1], b[2]), K::Point_3(c[0], c[1], c[2]));
-    const K::Vector_3 n = CGAL::cross_product(triangles.back()[1] - triangles.back()[0],
-                                              triangles.back()[2] - triangles.back()[0]);
-    const double l = std::sqrt(CGAL::to_double(n.squared_length()));
-    normals.push_back(l > 0 ? n / l : K::Vector_3(0, 0, 0));
-  }
+  surface_triangles(surface, triangles, normals);
   // points per edge, from the spacing at its midpoint
   std::vector<int> pieces;
   double total = 0;
