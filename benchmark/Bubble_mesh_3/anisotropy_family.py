@@ -5,6 +5,9 @@ its own process, at a target vertex count.
 
     anisotropy_family.py --tool build/bin/bubble_mesh_3 --meshes DIR [options]
 
+(scripts/anisotropy installs what it needs: numpy, scipy and Debian's tetgen
+binary, builds the tool, fetches CGAL's data set and runs it.)
+
 Metrics (sizes scaled so that the metric's node estimate is --vertices):
   cyl3      cylindrical: size h along and across the axis (the bounding box's
             longest axis through its centre), tangential size growing from h on

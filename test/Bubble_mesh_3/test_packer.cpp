@@ -460,6 +460,61 @@ TEST(BubblePacker, ThinPlateBothFacesCovered)
   }
 }
 
+// A step is M^-1 times the energy's gradient; at an equilibrium on a patch (a
+// curve) the gradient is normal to it, so the step is M^-1 g with g normal.
+// The constraints project steps orthogonally in the bubble's metric, which
+// maps such a step to zero; a Euclidean projection leaves its tangential part
+// wherever the metric is oblique to the entity, and the packing drifts (the
+// shock-layer surfaces of the anisotropy family ran to their iteration cap).
+namespace oblique {
+typedef CGAL::Bubble_mesh_3::internal::packing::Vec3 Vec;
+typedef CGAL::Bubble_mesh_3::internal::packing::Sym3 Sym;
+// the plane z = 0 as the only patch, the x axis as the only curve
+struct Flat_oracle {
+  std::pair<Vec, Vec> project_on_patch(int, const Vec& p) const { return {Vec(p[0], p[1], 0), Vec(0, 0, 1)}; }
+  Vec curve_tangent(int, double) const { return Vec(1, 0, 0); }
+  double normalize_arc_length(int, double s) const { return s; }
+  Vec curve_point(int, double s) const { return Vec(s, 0, 0); }
+};
+Sym oblique_metric()
+{
+  Eigen::Matrix3d r;
+  r << 1, -1, 0.3, 0.5, 1, -1, 0.3, 0.2, 1;
+  return Sym(Metric::from_directions_and_sizes(r, Vec3(0.25, 0.1, 0.02)));
+}
+} // namespace oblique
+
+TEST(BubblePacker, StepsAreProjectedOrthogonallyInTheMetric)
+{
+  using namespace oblique;
+  const Flat_oracle oracle;
+  const Sym m = oblique_metric();
+  const Sym m_inverse = m.inverse();
+  // patch: the equilibrium step M^-1 n does not move the bubble, a tangential step moves it by itself
+  CGAL::Bubble_mesh_3::internal::packing::Surface_constraint<Flat_oracle> on_patch(oracle);
+  CGAL::Bubble_mesh_3::internal::packing::Bubble_record b;
+  b.dimension = 2;
+  b.n = Vec(0, 0, 1);
+  b.m = m;
+  const Vec equilibrium = 0.01 * (m_inverse * b.n);
+  ASSERT_GT(std::hypot(equilibrium[0], equilibrium[1]), 1e-4); // oblique: M^-1 n is not along n
+  on_patch.move(b, equilibrium);
+  EXPECT_LT(b.x.norm(), 1e-15) << "moved to " << b.x.transpose();
+  on_patch.move(b, Vec(0.003, -0.002, 0));
+  EXPECT_LT((b.x - Vec(0.003, -0.002, 0)).norm(), 1e-15);
+  // curve: the step M^-1 g with g normal to the curve does not move the bubble
+  CGAL::Bubble_mesh_3::internal::packing::Curve_constraint<Flat_oracle> on_curve(oracle);
+  CGAL::Bubble_mesh_3::internal::packing::Bubble_record c;
+  c.dimension = 1;
+  c.m = m;
+  for(const Vec& g : {Vec(0, 1, 0), Vec(0, 0, 1), Vec(0, 0.6, -0.8)}) {
+    on_curve.move(c, 0.01 * (m_inverse * g));
+    EXPECT_LT(std::abs(c.s), 1e-15) << "normal covector " << g.transpose();
+  }
+  on_curve.move(c, Vec(0.004, 0, 0));
+  EXPECT_NEAR(c.s, 0.004, 1e-15);
+}
+
 TEST(BubblePacker, Sphere2D)
 {
   Polyhedron p = make_sphere(3);

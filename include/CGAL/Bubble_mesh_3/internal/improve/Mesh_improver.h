@@ -814,6 +814,11 @@ private:
     double cos_turn = 1;
     Eigen::Vector3d x; // the best position so far, of quality `current`
     double current = 0;
+    // the qualities of the faces' tets with the vertex at x, once a candidate
+    // was taken (ball_quality() computed all of them then): the ascent reads
+    // them instead of evaluating the metric again
+    std::vector<double> face_quality;
+    bool face_quality_at_x = false;
   };
 
   /// the ball of `v`, its faces, metric, tangent space and boundary bounds;
@@ -844,7 +849,7 @@ private:
       return false;
     b.start = b.faces.front().quality;
     b.x_start = P(v);
-    b.metric = quality_.metric_at(b.x_start);
+    b.metric = vertex_metric(v);
     b.Q = b.metric.Q();
     b.Q_inverse = b.metric.Q_inverse();
     b.scale = std::numeric_limits<double>::infinity();
@@ -923,18 +928,21 @@ private:
     std::sort(neighbours.begin(), neighbours.end());
     neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
     for(int u : neighbours) {
-      Metric_3 mu = quality_.metric_at(P(u));
+      const Metric_3& mu = vertex_metric(u);
       const double l = 0.5 * (b.metric.length(P(u) - b.x_start) + mu.length(P(u) - b.x_start));
       if(l >= std::sqrt(0.5) && l <= std::sqrt(2.0))
-        b.conforming.push_back({u, std::move(mu)});
+        b.conforming.push_back({u, mu});
     }
   }
 
   /// smallest quality of the ball with its vertex at x (+infinity from a
   /// passive tet if positive); stops early at <= threshold
-  double ball_quality(const Smoothing_ball& b, const Eigen::Vector3d& x, double threshold) const
+  double ball_quality(const Smoothing_ball& b, const Eigen::Vector3d& x, double threshold,
+                      std::vector<double>* each = nullptr) const
   {
     double w = std::numeric_limits<double>::infinity();
+    if(each)
+      each->clear();
     for(const Ball_face& f : b.faces) {
       double q;
       if(f.passive)
@@ -943,6 +951,8 @@ private:
                 : -1.0;
       else
         q = quality_(x, P(f.f[0]), P(f.f[1]), P(f.f[2]));
+      if(each)
+        each->push_back(q);
       w = std::min(w, q);
       if(w <= threshold)
         return w;
@@ -1012,10 +1022,12 @@ private:
       return false;
     if(b.on_surface ? !surface_move_ok(b, candidate) : !keeps_edges_in_range(b, candidate))
       return false;
-    const double w = ball_quality(b, candidate, b.current + Smoothing_ball::minimum_gain);
+    const double w = ball_quality(b, candidate, b.current + Smoothing_ball::minimum_gain, &candidate_quality_);
     if(w > b.current + Smoothing_ball::minimum_gain && (!b.on_surface || surface_distance_kept(b, candidate))) {
       b.current = w;
       b.x = candidate;
+      b.face_quality.swap(candidate_quality_); // every face was evaluated (no early stop above the bar)
+      b.face_quality_at_x = true;
       return true;
     }
     return false;
@@ -1061,7 +1073,7 @@ private:
         if(b.faces[i].passive)
           continue;
         const auto& f = b.faces[i].f;
-        values.push_back({quality_(b.x, P(f[0]), P(f[1]), P(f[2])), i});
+        values.push_back({b.face_quality_at_x ? b.face_quality[i] : quality_(b.x, P(f[0]), P(f[1]), P(f[2])), i});
       }
       std::sort(values.begin(), values.end());
       gradients.clear();
@@ -1148,6 +1160,7 @@ private:
         index_face(f[0], f[1], f[2]);
     }
     m_.points[std::size_t(v)] = b.x;
+    forget_vertex_metric(v);
     ++clock_;
     for(int s : b.ball)
       for(int u : m_.tets[std::size_t(s)])
@@ -1781,8 +1794,8 @@ private:
     return out > 0 ? out : 0;
   }
 
-  /// the metric at vertex v, cached for one length phase (no vertex moves
-  /// during it; new vertices extend the cache)
+  /// the metric at vertex v, cached until the vertex moves (new vertices
+  /// extend the cache)
   const Metric_3& vertex_metric(int v) const
   {
     if(vertex_metric_.size() < m_.points.size()) {
@@ -1794,6 +1807,12 @@ private:
       vertex_metric_known_[std::size_t(v)] = 1;
     }
     return vertex_metric_[std::size_t(v)];
+  }
+
+  void forget_vertex_metric(int v)
+  {
+    if(std::size_t(v) < vertex_metric_known_.size())
+      vertex_metric_known_[std::size_t(v)] = 0;
   }
 
   /// metric length of the edge (u, v) with the cached vertex metrics (the
@@ -1937,8 +1956,6 @@ private:
       if(m_.alive[t] && !m_.is_passive(int(t)))
         worst = std::min(worst, q_[t]);
     length_floor_ = std::max(length_quality_floor, worst);
-    vertex_metric_.clear();
-    vertex_metric_known_.clear();
     std::size_t changes = 0;
     for(int round = 0; round < 4 && !out_of_time(); ++round) {
       std::vector<std::pair<double, std::pair<int, int>>> long_edges, short_edges;
@@ -2282,9 +2299,11 @@ private:
   // change nearby (vertex_changed_ of one of its vertices is later)
   long clock_ = 1;
   std::vector<long> tet_tried_, vertex_tried_, vertex_changed_;
-  // the vertex metrics of one length phase (`vertex_metric()`)
+  // the vertex metrics (`vertex_metric()`)
   mutable std::vector<Metric_3> vertex_metric_;
   mutable std::vector<char> vertex_metric_known_;
+  // scratch of try_candidate(): the face qualities of a candidate position
+  mutable std::vector<double> candidate_quality_;
   /// a length change keeps the worst tet around at least at the lower of
   /// its old worst and this (`length_phase()`)
   double length_floor_ = 0;

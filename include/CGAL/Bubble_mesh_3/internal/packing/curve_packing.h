@@ -28,8 +28,12 @@ public:
 
   void move(Bubble_record& b, const Vec3& delta) const
   {
+    // the projection on the tangent orthogonal in the metric (as on patches:
+    // the step M^-1 g of an equilibrium, g normal to the curve, gives 0)
     const Vec3 t = o_.curve_tangent(b.entity, b.s);
-    b.s = o_.normalize_arc_length(b.entity, b.s + t.dot(delta));
+    const double tmt = b.m.squared_length(t);
+    const double along = tmt > 0 ? t.dot(b.m * delta) / tmt : t.dot(delta);
+    b.s = o_.normalize_arc_length(b.entity, b.s + along);
     b.x = o_.curve_point(b.entity, b.s);
   }
 

@@ -65,7 +65,16 @@ public:
 
   void move(Bubble_record& b, const Vec3& delta) const
   {
-    const Vec3 d = delta - delta.dot(b.n) * b.n;
+    // The step is M^-1 times the energy's gradient; at an equilibrium on the
+    // patch that gradient is normal to it, so the step is along M^-1 n. It is
+    // projected on the tangent plane along M^-1 n (the projection orthogonal
+    // in the metric), which leaves nothing of it there. The Euclidean
+    // projection would leave a tangential push wherever the metric is oblique
+    // to the patch (a shock crossing a wall): the bubbles would drift to the
+    // iteration cap instead of settling.
+    const Vec3 mn = b.m.inverse() * b.n;
+    const double nmn = b.n.dot(mn);
+    const Vec3 d = nmn > 0 ? Vec3(delta - (delta.dot(b.n) / nmn) * mn) : Vec3(delta - delta.dot(b.n) * b.n);
     const Vec3 target = b.x + d;
     const auto pr = o_.project_on_patch(b.entity, target);
     if(stopped_by_boundary(target, pr, d.norm())) {
