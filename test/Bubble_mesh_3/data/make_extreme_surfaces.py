@@ -179,7 +179,8 @@ def write_graded_background(out_dir, n=12):
 
 
 def main():
-    if len(sys.argv) != 2:
+    # an option (-h, --help) is not an output folder: print the usage
+    if len(sys.argv) != 2 or sys.argv[1].startswith("-"):
         raise SystemExit(__doc__)
     out_dir = sys.argv[1]
     os.makedirs(out_dir, exist_ok=True)
