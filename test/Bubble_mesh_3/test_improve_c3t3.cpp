@@ -234,6 +234,7 @@ TEST(ImproveC3t3, NamedParametersSetTheImprovementOptions)
           .split_below_angle(12.0)
           .edge_collapses(true)
           .keep_edges_in_range(true)
+          .flips_keep_edges_in_range(true)
           .edge_lengths(true)
           .maximum_ring_size(6)
           .smoothing_iterations(4)
@@ -249,7 +250,8 @@ TEST(ImproveC3t3, NamedParametersSetTheImprovementOptions)
   EXPECT_EQ(o.target_angle, 33.0);
   EXPECT_FALSE(o.flips || o.smoothing || o.boundary_smoothing || o.boundary_flips || o.curved_boundary_flips ||
                o.sliver_moves);
-  EXPECT_TRUE(o.edge_splits && o.edge_collapses && o.keep_edges_in_range && o.edge_lengths);
+  EXPECT_TRUE(o.edge_splits && o.edge_collapses && o.keep_edges_in_range && o.flips_keep_edges_in_range &&
+              o.edge_lengths);
   EXPECT_EQ(o.split_below_angle, 12.0);
   EXPECT_EQ(o.maximum_ring_size, 6);
   EXPECT_EQ(o.smoothing_iterations, 4);

@@ -577,13 +577,69 @@ TEST(ImproveMesh, KeepEdgesInRangeDuringSmoothing)
     for(const auto& e : before)
       if(in_range(e.second) && !in_range(after.at(e.first)))
         ++left[keep];
-    if(keep)
+    if(keep) {
       EXPECT_GE(r.edges_in_range_after, r.edges_in_range_before);
+    }
   }
   std::printf("edges leaving [1/sqrt2, sqrt2]: %zu without the constraint, %zu with it; worst %.2f / %.2f deg\n",
               left[0], left[1], worst[0], worst[1]);
   EXPECT_GT(left[0], 0u) << "the case should make unconstrained smoothing trade lengths for angles";
   EXPECT_EQ(left[1], 0u);
+}
+
+// Flips alone (no moves: the vertices stay) on the varying field: with
+// flips_keep_edges_in_range every edge the flips create is in [1/sqrt2, sqrt2] (for
+// tets not below split_below_angle, here all), so the edges out of it can only
+// be removed; without, some new ones are not
+TEST(ImproveMesh, KeepEdgesInRangeDuringFlips)
+{
+  auto f = [](const K::Point_3& p) {
+    const double h = 0.05 + 0.1 * p.x();
+    return BM::Metric_3::from_directions_and_sizes(M3::Identity(), V3(h, h, 0.5 * h));
+  };
+  auto field = CGAL::make_function_metric_field_3<K>(f);
+  const BM::Indexed_tet_mesh_3 input = delaunay_mesh(grid_cube_points(8, 800, 0.05, 5));
+  auto lengths = [&field](const BM::Indexed_tet_mesh_3& m) {
+    std::map<std::pair<int, int>, double> out;
+    for(const auto& t : m.tets)
+      for(int i = 0; i < 4; ++i)
+        for(int j = i + 1; j < 4; ++j) {
+          const int a = std::min(t[i], t[j]), b = std::max(t[i], t[j]);
+          const V3 pa(m.points[a][0], m.points[a][1], m.points[a][2]), pb(m.points[b][0], m.points[b][1], m.points[b][2]);
+          const BM::Metric_3 ma = field(K::Point_3(pa[0], pa[1], pa[2])), mb = field(K::Point_3(pb[0], pb[1], pb[2]));
+          out[{a, b}] = 0.5 * (ma.length(pb - pa) + mb.length(pb - pa));
+        }
+    return out;
+  };
+  auto in_range = [](double l) { return l >= std::sqrt(0.5) && l <= std::sqrt(2.0); };
+  auto out_of_range = [&](const std::map<std::pair<int, int>, double>& edges) {
+    return std::count_if(edges.begin(), edges.end(), [&](const auto& e) { return !in_range(e.second); });
+  };
+  const auto before = lengths(input);
+  std::size_t created_out[2] = {0, 0};
+  std::size_t flips[2] = {0, 0};
+  for(int keep = 0; keep < 2; ++keep) {
+    BM::Indexed_tet_mesh_3 mesh = input;
+    BM::Improvement_options o = deterministic();
+    o.smoothing = false;
+    o.flips_keep_edges_in_range = keep == 1;
+    o.split_below_angle = 0; // the guard spares the flips of tets below it: here none
+    const BM::Improvement_report r = improve_and_check(mesh, field, keep ? "flips, edges kept" : "flips", o);
+    ASSERT_EQ(mesh.points.size(), input.points.size()); // flips only: the same vertices, unmoved
+    flips[keep] = r.flips_2_3 + r.flips_3_2 + r.flips_4_4 + r.edge_removals;
+    EXPECT_GT(flips[keep], 50u);
+    const auto after = lengths(mesh);
+    for(const auto& e : after)
+      if(!before.count(e.first) && !in_range(e.second))
+        ++created_out[keep];
+    if(keep) {
+      EXPECT_LE(out_of_range(after), out_of_range(before));
+    }
+  }
+  std::printf("flips %zu / %zu; new edges outside [1/sqrt2, sqrt2]: %zu without the constraint, %zu with it\n",
+              flips[0], flips[1], created_out[0], created_out[1]);
+  EXPECT_GT(created_out[0], 0u) << "the case should make unconstrained flips create edges out of range";
+  EXPECT_EQ(created_out[1], 0u);
 }
 
 TEST(ImproveMesh, TwoSubdomainsAreKeptApart)

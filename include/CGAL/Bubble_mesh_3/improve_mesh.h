@@ -378,7 +378,7 @@ Improvement_report improve_mesh(Indexed_tet_mesh_3& mesh, const MetricField_3& f
 /// `smoothing`, `boundary_smoothing`, `boundary_flips`,
 /// `curved_boundary_flips`, `sliver_moves`, `edge_splits`,
 /// `split_below_angle`, `edge_collapses`, `keep_edges_in_range`,
-/// `edge_lengths`, `surface_distance`, `maximum_ring_size`,
+/// `flips_keep_edges_in_range`, `edge_lengths`, `surface_distance`, `maximum_ring_size`,
 /// `smoothing_iterations`, `surface_projection`, `curve_projection`.
 template <typename NamedParameters>
 Improvement_options improvement_options(const NamedParameters& np)
@@ -402,6 +402,8 @@ Improvement_options improvement_options(const NamedParameters& np)
   o.split_below_angle = choose_parameter(get_parameter(np, BNP::split_below_angle), o.split_below_angle);
   o.edge_collapses = choose_parameter(get_parameter(np, BNP::edge_collapses), o.edge_collapses);
   o.keep_edges_in_range = choose_parameter(get_parameter(np, BNP::keep_edges_in_range), o.keep_edges_in_range);
+  o.flips_keep_edges_in_range =
+    choose_parameter(get_parameter(np, BNP::flips_keep_edges_in_range), o.flips_keep_edges_in_range);
   o.edge_lengths = choose_parameter(get_parameter(np, BNP::edge_lengths), o.edge_lengths);
   o.surface_distance = choose_parameter(get_parameter(np, BNP::surface_distance), o.surface_distance);
   o.maximum_ring_size = choose_parameter(get_parameter(np, BNP::maximum_ring_size), o.maximum_ring_size);

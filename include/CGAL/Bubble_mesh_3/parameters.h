@@ -57,6 +57,7 @@ enum edge_splits_t { edge_splits };
 enum split_below_angle_t { split_below_angle };
 enum edge_collapses_t { edge_collapses };
 enum keep_edges_in_range_t { keep_edges_in_range };
+enum flips_keep_edges_in_range_t { flips_keep_edges_in_range };
 enum edge_lengths_t { edge_lengths };
 enum maximum_ring_size_t { maximum_ring_size };
 enum smoothing_iterations_t { smoothing_iterations };
@@ -104,6 +105,7 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, split_below_angle)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, edge_collapses)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, keep_edges_in_range)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, flips_keep_edges_in_range)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, edge_lengths)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, maximum_ring_size)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, smoothing_iterations)
@@ -175,6 +177,8 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, split_below_angle)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, edge_collapses)
 /// `improve_mesh()`: interior moves keep the vertex's edges that are in [1/sqrt(2), sqrt(2)] in the metric in that range (default false)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, keep_edges_in_range)
+/// `improve_mesh()`: flips of tets not below `split_below_angle` create no edge outside [1/sqrt(2), sqrt(2)] in the metric (default false)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, flips_keep_edges_in_range)
 /// `improve_mesh()`: rounds of removals, splits and collapses of the edges outside [1/sqrt(2), sqrt(2)] in the metric (default false)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, edge_lengths)
 /// `improve_mesh()`: largest number of tets around an edge that edge removal considers (default 10)
