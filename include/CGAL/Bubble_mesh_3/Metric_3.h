@@ -199,9 +199,23 @@ public:
   /// (this is the hot path of interpolated fields: one eigen solve, one LLT).
   static Metric_3 exp(const Matrix& symmetric, const std::string& where = std::string())
   {
+    return exp(symmetric, where.c_str());
+  }
+
+  /// as above; `where` is only turned into a string for an error message
+  static Metric_3 exp(const Matrix& symmetric, const char* where)
+  {
     if(!symmetric.allFinite())
       throw Invalid_metric(prefix(where) + "logarithm of the metric is not finite");
-    Eigen::SelfAdjointEigenSolver<Matrix> es(0.5 * (symmetric + symmetric.transpose()));
+    // The closed-form 3x3 solver: half the cost of the iterative one (which
+    // took a fifth of an interpolated field's whole run). Its error relative
+    // to the metric (|Q^-T (M' - M) Q^-1|, against a long double reference,
+    // 10^5 random logarithms) is below 1e-6 up to a 1:100 size ratio (the
+    // iterative solver's: 2e-12) and below 5e-4 at maximum_eigenvalue_ratio()
+    // (8e-5): lengths are off by less than that, far below what a metric
+    // specifies.
+    Eigen::SelfAdjointEigenSolver<Matrix> es;
+    es.computeDirect(Matrix(0.5 * (symmetric + symmetric.transpose())));
     const Vector& l = es.eigenvalues(); // ascending
     if(!(l[2] - l[0] <= std::log(maximum_eigenvalue_ratio())) || !(std::abs(l[2]) < 700 && std::abs(l[0]) < 700))
       throw Invalid_metric(prefix(where) + "metric is too anisotropic or out of range: log-eigenvalues " +
