@@ -537,30 +537,46 @@ TEST(ImproveMesh, VaryingMetricField)
   EXPECT_GT(r.worst_after, r.worst_before + 5);
 }
 
+namespace {
+
+// The graded 1:2 field of the conformity tests (size 0.05 + 0.1 x, half
+// across z) and the metric lengths of a mesh's edges in it (the mean over
+// the two ends' metrics, as the quality report measures)
+auto conformity_test_field()
+{
+  return CGAL::make_function_metric_field_3<K>([](const K::Point_3& p) {
+    const double h = 0.05 + 0.1 * p.x();
+    return BM::Metric_3::from_directions_and_sizes(M3::Identity(), V3(h, h, 0.5 * h));
+  });
+}
+
+template <typename Field>
+std::map<std::pair<int, int>, double> metric_lengths_of_edges(const BM::Indexed_tet_mesh_3& m, const Field& field)
+{
+  std::map<std::pair<int, int>, double> out;
+  for(const auto& t : m.tets)
+    for(int i = 0; i < 4; ++i)
+      for(int j = i + 1; j < 4; ++j) {
+        const int a = std::min(t[i], t[j]), b = std::max(t[i], t[j]);
+        const V3 pa(m.points[a][0], m.points[a][1], m.points[a][2]), pb(m.points[b][0], m.points[b][1], m.points[b][2]);
+        const BM::Metric_3 ma = field(K::Point_3(pa[0], pa[1], pa[2])), mb = field(K::Point_3(pb[0], pb[1], pb[2]));
+        out[{a, b}] = 0.5 * (ma.length(pb - pa) + mb.length(pb - pa));
+      }
+  return out;
+}
+
+bool in_metric_range(double l) { return l >= std::sqrt(0.5) && l <= std::sqrt(2.0); }
+
+} // namespace
+
 // Smoothing alone (no flips: the edges stay the same) on the varying field:
 // with keep_edges_in_range every edge in [1/sqrt2, sqrt2] before is still in
 // it after; without, some leave it (the angles are bought with lengths)
 TEST(ImproveMesh, KeepEdgesInRangeDuringSmoothing)
 {
-  auto f = [](const K::Point_3& p) {
-    const double h = 0.05 + 0.1 * p.x();
-    return BM::Metric_3::from_directions_and_sizes(M3::Identity(), V3(h, h, 0.5 * h));
-  };
-  auto field = CGAL::make_function_metric_field_3<K>(f);
+  const auto field = conformity_test_field();
   const BM::Indexed_tet_mesh_3 input = delaunay_mesh(grid_cube_points(8, 800, 0.05, 5));
-  auto lengths = [&field](const BM::Indexed_tet_mesh_3& m) {
-    std::map<std::pair<int, int>, double> out;
-    for(const auto& t : m.tets)
-      for(int i = 0; i < 4; ++i)
-        for(int j = i + 1; j < 4; ++j) {
-          const int a = std::min(t[i], t[j]), b = std::max(t[i], t[j]);
-          const V3 pa(m.points[a][0], m.points[a][1], m.points[a][2]), pb(m.points[b][0], m.points[b][1], m.points[b][2]);
-          const BM::Metric_3 ma = field(K::Point_3(pa[0], pa[1], pa[2])), mb = field(K::Point_3(pb[0], pb[1], pb[2]));
-          out[{a, b}] = 0.5 * (ma.length(pb - pa) + mb.length(pb - pa));
-        }
-    return out;
-  };
-  auto in_range = [](double l) { return l >= std::sqrt(0.5) && l <= std::sqrt(2.0); };
+  auto lengths = [&field](const BM::Indexed_tet_mesh_3& m) { return metric_lengths_of_edges(m, field); };
   const auto before = lengths(input);
   std::size_t left[2] = {0, 0};
   double worst[2] = {0, 0};
@@ -575,7 +591,7 @@ TEST(ImproveMesh, KeepEdgesInRangeDuringSmoothing)
     const auto after = lengths(mesh);
     ASSERT_EQ(after.size(), before.size()); // no flips: the same edges
     for(const auto& e : before)
-      if(in_range(e.second) && !in_range(after.at(e.first)))
+      if(in_metric_range(e.second) && !in_metric_range(after.at(e.first)))
         ++left[keep];
     if(keep) {
       EXPECT_GE(r.edges_in_range_after, r.edges_in_range_before);
@@ -593,27 +609,11 @@ TEST(ImproveMesh, KeepEdgesInRangeDuringSmoothing)
 // be removed; without, some new ones are not
 TEST(ImproveMesh, KeepEdgesInRangeDuringFlips)
 {
-  auto f = [](const K::Point_3& p) {
-    const double h = 0.05 + 0.1 * p.x();
-    return BM::Metric_3::from_directions_and_sizes(M3::Identity(), V3(h, h, 0.5 * h));
-  };
-  auto field = CGAL::make_function_metric_field_3<K>(f);
+  const auto field = conformity_test_field();
   const BM::Indexed_tet_mesh_3 input = delaunay_mesh(grid_cube_points(8, 800, 0.05, 5));
-  auto lengths = [&field](const BM::Indexed_tet_mesh_3& m) {
-    std::map<std::pair<int, int>, double> out;
-    for(const auto& t : m.tets)
-      for(int i = 0; i < 4; ++i)
-        for(int j = i + 1; j < 4; ++j) {
-          const int a = std::min(t[i], t[j]), b = std::max(t[i], t[j]);
-          const V3 pa(m.points[a][0], m.points[a][1], m.points[a][2]), pb(m.points[b][0], m.points[b][1], m.points[b][2]);
-          const BM::Metric_3 ma = field(K::Point_3(pa[0], pa[1], pa[2])), mb = field(K::Point_3(pb[0], pb[1], pb[2]));
-          out[{a, b}] = 0.5 * (ma.length(pb - pa) + mb.length(pb - pa));
-        }
-    return out;
-  };
-  auto in_range = [](double l) { return l >= std::sqrt(0.5) && l <= std::sqrt(2.0); };
-  auto out_of_range = [&](const std::map<std::pair<int, int>, double>& edges) {
-    return std::count_if(edges.begin(), edges.end(), [&](const auto& e) { return !in_range(e.second); });
+  auto lengths = [&field](const BM::Indexed_tet_mesh_3& m) { return metric_lengths_of_edges(m, field); };
+  auto out_of_range = [](const std::map<std::pair<int, int>, double>& edges) {
+    return std::count_if(edges.begin(), edges.end(), [](const auto& e) { return !in_metric_range(e.second); });
   };
   const auto before = lengths(input);
   std::size_t created_out[2] = {0, 0};
@@ -630,7 +630,7 @@ TEST(ImproveMesh, KeepEdgesInRangeDuringFlips)
     EXPECT_GT(flips[keep], 50u);
     const auto after = lengths(mesh);
     for(const auto& e : after)
-      if(!before.count(e.first) && !in_range(e.second))
+      if(!before.count(e.first) && !in_metric_range(e.second))
         ++created_out[keep];
     if(keep) {
       EXPECT_LE(out_of_range(after), out_of_range(before));
@@ -1116,8 +1116,9 @@ TEST(ImproveMesh, SurfaceDistanceBoundSplitsStrayingChords)
     bool on_boundary = false;
     for(const auto& t : mesh.triangles)
       on_boundary = on_boundary || t[0] == int(v) || t[1] == int(v) || t[2] == int(v);
-    if(on_boundary)
+    if(on_boundary) {
       EXPECT_NEAR(V3(mesh.points[v].data()).norm(), 1.0, 1e-15) << "boundary vertex " << v << " left the sphere";
+    }
   }
   const double ball = 4.0 / 3.0 * std::acos(-1.0);
   EXPECT_LT(std::abs(volumes(mesh).total - ball), 0.5 * std::abs(volumes(unbounded).total - ball));
