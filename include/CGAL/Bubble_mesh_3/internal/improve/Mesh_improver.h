@@ -569,7 +569,7 @@ private:
     // as the interior flips: no new edge out of the metric's range (a cap's
     // removal creates none)
     const bool keep_range = flips_keep_lengths(old_worst) && !cap;
-    if(keep_range && !in_metric_range(metric_edge_length(p0, pk)))
+    if(keep_range && !in_metric_range(cached_edge_length(p0, pk)))
       return;
     double result = 0;
     int top = -1;
@@ -1043,8 +1043,7 @@ private:
     const Metric_3 mc = quality_.metric_at(candidate);
     for(const auto& c : b.conforming) {
       const Eigen::Vector3d d = P(c.first) - candidate;
-      const double l = 0.5 * (mc.length(d) + c.second.length(d));
-      if(!(l >= std::sqrt(0.5) && l <= std::sqrt(2.0)))
+      if(!in_metric_range(0.5 * (mc.length(d) + c.second.length(d))))
         return false;
     }
     return true;
