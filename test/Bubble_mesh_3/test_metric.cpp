@@ -156,6 +156,31 @@ TEST(Metric3, LogExpRoundTrip)
   expect_invalid_metric([&] { Metric_3::exp(l); }, "not finite");
 }
 
+// Boundary-layer metrics have two equal sizes: a repeated eigenvalue, where
+// closed-form eigen solvers lose digits. exp(log M) must give M back to
+// near machine precision in the metric's own terms (Q^-T (M' - M) Q^-1).
+TEST(Metric3, ExpIsExactForRepeatedEigenvalues)
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1), size(0.001, 1);
+  for(double ratio : {1.0, 10.0, 100.0, 1000.0}) {
+    double worst = 0;
+    for(int i = 0; i < 2000; ++i) {
+      Matrix a = Matrix::NullaryExpr([&]() { return u(rng); });
+      Eigen::HouseholderQR<Matrix> qr(a);
+      const Matrix r = i % 4 == 0 ? Matrix::Identity() : Matrix(qr.householderQ());
+      const double h = size(rng);
+      Vector sizes(h, h, h);
+      sizes[i % 3] = h / ratio;
+      const Metric_3 m = Metric_3::from_directions_and_sizes(r, sizes);
+      const Metric_3 back = Metric_3::exp(m.log());
+      const Matrix qinv = m.Q().inverse();
+      worst = (std::max)(worst, (qinv.transpose() * (back.matrix() - m.matrix()) * qinv).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(worst, ratio < 500 ? 1e-11 : 1e-9) << "size ratio 1:" << ratio;
+  }
+}
+
 TEST(Metric3, LogEuclideanInterpolation)
 {
   Metric_3 a = Metric_3::isotropic(1.0), b = Metric_3::isotropic(4.0);
