@@ -16,6 +16,7 @@
 #include <CGAL/Bubble_mesh_3/validity.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
+#include <CGAL/Hessian_metric_field_3.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/File_medit.h>
@@ -25,8 +26,10 @@
 #include <gtest/gtest.h>
 
 #include "sanitized_build.h"
+#include "jittered_box.h"
 
 #include <cmath>
+#include <functional>
 #include <cstdlib>
 #include <algorithm>
 #include <array>
@@ -943,3 +946,34 @@ TEST(DetectFeatures, SameCurvesWhateverTheHeapLayout)
     EXPECT_EQ(again.incident_patches, reference.incident_patches) << "seed " << seed;
   }
 }
+
+// The Hessian metric of a field sampled on a background box, normalised to a
+// target vertex count: the pipeline's mesh of the box lands within 10 % of it
+// (fields with anisotropy up to 1:50, layers thinner than the background tets).
+TEST(HessianField, TargetNumberOfVerticesIsMet)
+{
+  if(sanitized_build)
+    GTEST_SKIP() << "meshing 4 x 4,000 vertices is too slow under the sanitizers";
+  typedef CGAL::Hessian_metric_field_3<K> Field;
+  const BM::Indexed_tet_mesh_3 background = jittered_box(16, 0, 1, 0);
+  const std::pair<const char*, std::function<double(const K::Point_3&)>> fields[] = {
+      {"tanh layer on a sphere",
+       [](const K::Point_3& p) {
+         return std::tanh((std::sqrt(p.x() * p.x() + p.y() * p.y() + p.z() * p.z()) - 0.8) / 0.05);
+       }},
+      {"tanh layer on a plane", [](const K::Point_3& p) { return std::tanh((p.x() + 0.2 * p.y() - 0.5) / 0.05); }},
+      {"quadratic", [](const K::Point_3& p) { return 4 * p.x() * p.x() + 0.5 * p.y() * p.y() + 2 * p.x() * p.z(); }},
+      {"sine", [](const K::Point_3& p) { return std::sin(3 * p.x()) * std::cos(2 * p.y()) + std::exp(p.z()); }}};
+  const double target = 4000;
+  for(const auto& f : fields) {
+    const Field field =
+        Field::from_function(background, f.second, BM::parameters::target_number_of_vertices(target).maximum_anisotropy(50));
+    EXPECT_NEAR(field.estimated_number_of_vertices(), target, 1e-6 * target);
+    const Outcome o = mesh_indexed(box_off(1, 1, 1), field, 1.0);
+    EXPECT_TRUE(o.validity.is_valid()) << f.first;
+    const double n = double(o.mesh.points.size());
+    std::cout << f.first << ": " << n << " vertices for a target of " << target << "\n";
+    EXPECT_NEAR(n, target, 0.1 * target) << f.first;
+  }
+}
+

@@ -4,13 +4,17 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Feature_size_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
+#include <CGAL/Hessian_metric_field_3.h>
+#include <CGAL/Intersection_metric_field_3.h>
 #include <CGAL/Interpolated_metric_field_3.h>
 #include <CGAL/Realizable_metric_field_3.h>
 #include <CGAL/Bubble_mesh_3/analytic_metric_fields.h>
+#include <CGAL/Bubble_mesh_3/recover_hessians.h>
 #include <CGAL/Surface_approximation_metric_field_3.h>
 #include <CGAL/Bubble_mesh_3/internal/surface_curvature.h>
 
 #include <gtest/gtest.h>
+#include "jittered_box.h"
 
 #include <algorithm>
 #include <array>
@@ -693,24 +697,9 @@ TEST(RealizableField, InterpolatedFieldsAreCheckedAtTheirBackgroundVertices)
   // a background grid over a corner of polar-1's layer, and its metrics
   typedef CGAL::Bubble_mesh_3::Ugawg_metric Ugawg;
   const Ugawg polar(Ugawg::polar_1);
-  CGAL::Bubble_mesh_3::Indexed_tet_mesh_3 grid;
-  const int n = 6;
-  auto index = [&](int i, int j, int k) { return (i * (n + 1) + j) * (n + 1) + k; };
-  for(int i = 0; i <= n; ++i)
-    for(int j = 0; j <= n; ++j)
-      for(int k = 0; k <= n; ++k)
-        grid.points.push_back({{0.3 + 0.3 * i / n, 0.3 + 0.3 * j / n, 0.3 * k / n}});
-  for(int i = 0; i < n; ++i)
-    for(int j = 0; j < n; ++j)
-      for(int k = 0; k < n; ++k) {
-        // six tets around the cube's diagonal
-        const int c[8] = {index(i, j, k),         index(i + 1, j, k),         index(i + 1, j + 1, k),
-                          index(i, j + 1, k),     index(i, j, k + 1),         index(i + 1, j, k + 1),
-                          index(i + 1, j + 1, k + 1), index(i, j + 1, k + 1)};
-        const int six[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
-        for(const auto& t : six)
-          grid.tets.push_back({{c[t[0]], c[t[1]], c[t[2]], c[t[3]]}});
-      }
+  CGAL::Bubble_mesh_3::Indexed_tet_mesh_3 grid = jittered_box(6, 0, 1, 0);
+  for(auto& p : grid.points)
+    p = {{0.3 + 0.3 * p[0], 0.3 + 0.3 * p[1], 0.3 * p[2]}};
   std::vector<Metric_3> metrics;
   for(const auto& p : grid.points)
     metrics.push_back(polar(K::Point_3(p[0], p[1], p[2])));
@@ -733,3 +722,252 @@ TEST(RealizableField, InterpolatedFieldsAreCheckedAtTheirBackgroundVertices)
 }
 
 } // namespace
+
+namespace {
+
+double signed_volume(const CGAL::Bubble_mesh_3::Indexed_tet_mesh_3& m, const std::array<int, 4>& t)
+{
+  Eigen::Vector3d p[4];
+  for(int k = 0; k < 4; ++k)
+    p[k] = Eigen::Vector3d(m.points[std::size_t(t[k])][0], m.points[std::size_t(t[k])][1], m.points[std::size_t(t[k])][2]);
+  return (p[1] - p[0]).dot((p[2] - p[0]).cross(p[3] - p[0])) / 6;
+}
+
+} // namespace
+
+TEST(HessianRecovery, QuadraticIsExactOnAnyMesh)
+{
+  std::mt19937 rng(11);
+  for(unsigned seed = 0; seed < 3; ++seed) {
+    const auto mesh = jittered_box(5, 0.2, seed == 2 ? 2.0 : 1.0, seed);
+    for(const auto& t : mesh.tets)
+      ASSERT_GT(signed_volume(mesh, t), 0) << "the jittered box must stay valid";
+    const Matrix h = random_spd(rng) - random_spd(rng); // indefinite
+    const Vector g = Vector::Random();
+    std::vector<double> values;
+    for(const auto& p : mesh.points) {
+      const Vector x(p[0], p[1], p[2]);
+      values.push_back(3 + g.dot(x) + 0.5 * x.dot(h * x));
+    }
+    const auto hessians = CGAL::Bubble_mesh_3::recover_hessians(mesh, values);
+    double worst = 0;
+    for(const auto& r : hessians)
+      worst = (std::max)(worst, (r - h).norm());
+    EXPECT_LT(worst, 1e-8 * h.norm()) << "seed " << seed; // every vertex, boundary included
+  }
+}
+
+TEST(HessianRecovery, CubicConvergesAtFirstOrder)
+{
+  // u = x^3 + x y z + z^3 / 3 on jittered boxes: H = [[6x, z, y], [z, 0, x], [y, x, 2z]]
+  auto exact = [](const std::array<double, 3>& p) {
+    Matrix h;
+    h << 6 * p[0], p[2], p[1], p[2], 0, p[0], p[1], p[0], 2 * p[2];
+    return h;
+  };
+  double previous = 0;
+  for(int n : {4, 8, 16}) {
+    const auto mesh = jittered_box(n, 0.2, 1.0, 7);
+    std::vector<double> values;
+    for(const auto& p : mesh.points)
+      values.push_back(p[0] * p[0] * p[0] + p[0] * p[1] * p[2] + p[2] * p[2] * p[2] / 3);
+    const auto hessians = CGAL::Bubble_mesh_3::recover_hessians(mesh, values);
+    double worst = 0;
+    for(std::size_t i = 0; i < hessians.size(); ++i)
+      worst = (std::max)(worst, (hessians[i] - exact(mesh.points[i])).norm());
+    if(previous > 0) {
+      EXPECT_LT(worst, previous / 1.6) << "n = " << n; // halving the edges at least about halves the error
+    }
+    previous = worst;
+  }
+  EXPECT_LT(previous, 0.5); // against |H| of about 7
+}
+
+TEST(HessianRecovery, RefusesBadInput)
+{
+  auto mesh = jittered_box(2, 0, 1, 0);
+  std::vector<double> values(mesh.points.size(), 1.0);
+  using CGAL::Bubble_mesh_3::recover_hessians;
+  using CGAL::Bubble_mesh_3::Invalid_input;
+  auto expect_refused = [](auto f, const std::string& needle) {
+    try {
+      f();
+      FAIL() << "expected Invalid_input containing '" << needle << "'";
+    } catch(const Invalid_input& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_refused([&] { recover_hessians(mesh, std::vector<double>(3, 1.0), "u.sol"); }, "u.sol: 3 values for 27");
+  values[5] = std::numeric_limits<double>::quiet_NaN();
+  expect_refused([&] { recover_hessians(mesh, values); }, "value at vertex 6 is not finite");
+  values[5] = 1;
+  CGAL::Bubble_mesh_3::Indexed_tet_mesh_3 one;
+  one.points = {{{0, 0, 0}}, {{1, 0, 0}}, {{0, 1, 0}}, {{0, 0, 1}}};
+  one.tets = {{{0, 1, 2, 3}}};
+  expect_refused([&] { recover_hessians(one, std::vector<double>(4, 0.0)); }, "do not determine a quadratic");
+  one.tets.clear();
+  expect_refused([&] { recover_hessians(one, std::vector<double>(4, 0.0)); }, "no tetrahedra");
+  mesh.tets[3][2] = 99;
+  expect_refused([&] { recover_hessians(mesh, values); }, "tetrahedron 4 has vertex index 100");
+}
+
+TEST(HessianField, ErrorGivesTheSizesOfTheBound)
+{
+  // u = (R x)^T diag(a) (R x) / 2 with eigenvalues 8, -2 (|H| takes 2) and 0
+  std::mt19937 rng(3);
+  Matrix a = Matrix::NullaryExpr([&]() { return std::uniform_real_distribution<double>(-1, 1)(rng); });
+  const Matrix r = Eigen::HouseholderQR<Matrix>(a).householderQ();
+  const Vector d(8, -2, 0);
+  const Matrix h = r * d.asDiagonal() * r.transpose();
+  const auto mesh = jittered_box(4, 0.25, 1.0, 1);
+  const double e = 0.01;
+  auto u = [&](const K::Point_3& p) {
+    const Vector x(p.x(), p.y(), p.z());
+    return 0.5 * x.dot(h * x) + x.sum();
+  };
+  const auto field = CGAL::Hessian_metric_field_3<K>::from_function(
+      mesh, u, CGAL::Bubble_mesh_3::parameters::interpolation_error(e).maximum_size(0.5));
+  const double c = CGAL::Hessian_metric_field_3<K>::interpolation_constant();
+  // |H| (c / e): sizes sqrt(e / (c |lambda|)) along R's columns, 0.5 where H vanishes
+  const Vector sizes(std::sqrt(e / (c * 8)), std::sqrt(e / (c * 2)), 0.5);
+  for(const K::Point_3& p : {K::Point_3(0.5, 0.5, 0.5), K::Point_3(0.13, 0.77, 0.41), K::Point_3(1, 0, 1)}) {
+    const Metric_3 m = field(p);
+    for(int k = 0; k < 3; ++k)
+      EXPECT_NEAR(m.length(sizes[k] * r.col(k)), 1.0, 1e-6) << "direction " << k;
+  }
+  EXPECT_EQ(field.vertex_metrics().size(), mesh.points.size());
+  // the complexity is the metric volume: the integral of 1 / (h1 h2 h3) over the unit box
+  EXPECT_NEAR(field.complexity(), 1 / sizes.prod(), 1e-6 / sizes.prod());
+}
+
+TEST(HessianField, SizeBoundsAndAnisotropy)
+{
+  std::mt19937 rng(9);
+  const auto mesh = jittered_box(4, 0.25, 1.0, 2);
+  for(int trial = 0; trial < 5; ++trial) {
+    const Matrix h = 1e3 * (random_spd(rng, 4) - random_spd(rng, 4));
+    std::vector<double> values;
+    for(const auto& p : mesh.points) {
+      const Vector x(p[0], p[1], p[2]);
+      values.push_back(0.5 * x.dot(h * x));
+    }
+    const double hmin = 0.02, hmax = 0.3, ratio = 5;
+    const CGAL::Hessian_metric_field_3<K> field(
+        mesh, values,
+        CGAL::Bubble_mesh_3::parameters::interpolation_error(1e-3).minimum_size(hmin).maximum_size(hmax)
+            .maximum_anisotropy(ratio));
+    for(const Metric_3& m : field.vertex_metrics()) {
+      Eigen::SelfAdjointEigenSolver<Matrix> es(m.matrix());
+      const Vector sizes = es.eigenvalues().cwiseSqrt().cwiseInverse();
+      EXPECT_GE(sizes.minCoeff(), hmin * (1 - 1e-9));
+      EXPECT_LE(sizes.maxCoeff(), hmax * (1 + 1e-9));
+      EXPECT_LE(sizes.maxCoeff() / sizes.minCoeff(), ratio * (1 + 1e-9));
+    }
+  }
+}
+
+TEST(HessianField, TargetNumberOfVerticesSetsTheComplexity)
+{
+  // a tanh layer along a sphere: rank-one Hessians, graded sizes
+  const auto mesh = jittered_box(10, 0.2, 1.0, 4);
+  auto u = [](const K::Point_3& p) {
+    const double r = std::sqrt(CGAL::squared_distance(p, K::Point_3(0, 0, 0)));
+    return std::tanh((r - 0.8) / 0.05);
+  };
+  namespace P = CGAL::Bubble_mesh_3::parameters;
+  typedef CGAL::Hessian_metric_field_3<K> Field;
+  for(double target : {2000.0, 20000.0}) {
+    for(double p : {1.0, 2.0, std::numeric_limits<double>::infinity()}) {
+      const Field f = Field::from_function(mesh, u, P::target_number_of_vertices(target).error_norm(p));
+      EXPECT_NEAR(f.estimated_number_of_vertices(), target, 1e-6 * target) << "p = " << p;
+    }
+  }
+  // L^p metrics for larger p refine the layer less against the rest (the
+  // L-infinity metric is proportional to |H|): compare the size ratio
+  // between a vertex in the layer and one far from it
+  std::size_t in = 0, out = 0;
+  for(std::size_t i = 0; i < mesh.points.size(); ++i) {
+    const auto& q = mesh.points[i];
+    const double r = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    if(std::abs(r - 0.8) < std::abs(std::sqrt(mesh.points[in][0] * mesh.points[in][0] +
+                                              mesh.points[in][1] * mesh.points[in][1] +
+                                              mesh.points[in][2] * mesh.points[in][2]) - 0.8))
+      in = i;
+    if(r < 0.3)
+      out = i;
+  }
+  auto contrast = [&](double p) {
+    // sizes not clipped far from the layer (the default maximum is a tenth of the diagonal)
+    const Field f = Field::from_function(mesh, u, P::target_number_of_vertices(5000).error_norm(p).maximum_size(2.0));
+    return f.vertex_metrics()[in].matrix().determinant() / f.vertex_metrics()[out].matrix().determinant();
+  };
+  EXPECT_GT(contrast(std::numeric_limits<double>::infinity()), contrast(1.0));
+  // targets the size bounds cannot reach are refused with the range they allow
+  try {
+    Field::from_function(mesh, u, P::target_number_of_vertices(1e12).minimum_size(0.01));
+    FAIL() << "an unreachable target must be refused";
+  } catch(const CGAL::Bubble_mesh_3::Invalid_input& e) {
+    EXPECT_NE(std::string(e.what()).find("outside what the size bounds allow"), std::string::npos) << e.what();
+  }
+  try {
+    Field::from_function(mesh, u, P::maximum_size(0.5));
+    FAIL() << "neither an error nor a target: refused";
+  } catch(const CGAL::Bubble_mesh_3::Invalid_input& e) {
+    EXPECT_NE(std::string(e.what()).find("either interpolation_error or target_number_of_vertices"),
+              std::string::npos);
+  }
+}
+
+TEST(IntersectionField, CommutativeContainedAndIdempotent)
+{
+  auto layer = CGAL::make_function_metric_field_3<K>([](const K::Point_3& p) {
+    return Metric_3::from_directions_and_sizes(Matrix::Identity(), Vector(0.1, 0.1, 0.001 + 0.1 * p.z() * p.z()));
+  });
+  auto swirl = CGAL::make_function_metric_field_3<K>([](const K::Point_3& p) {
+    const double t = p.x() + 2 * p.y();
+    Matrix r;
+    r << std::cos(t), -std::sin(t), 0, std::sin(t), std::cos(t), 0, 0, 0, 1;
+    return Metric_3::from_directions_and_sizes(r, Vector(0.01, 0.2, 0.05));
+  });
+  const auto ab = CGAL::make_intersection_metric_field_3(layer, swirl);
+  const auto ba = CGAL::make_intersection_metric_field_3(swirl, layer);
+  const auto aa = CGAL::make_intersection_metric_field_3(layer, layer);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for(int i = 0; i < 200; ++i) {
+    const K::Point_3 p(u(rng), u(rng), u(rng));
+    const Metric_3 m = ab(p), n = ba(p), a = layer(p), b = swirl(p);
+    EXPECT_LT((m.matrix() - n.matrix()).norm(), 1e-9 * m.matrix().norm());
+    EXPECT_LT((aa(p).matrix() - a.matrix()).norm(), 1e-9 * a.matrix().norm());
+    for(int k = 0; k < 10; ++k) {
+      const Vector v(u(rng), u(rng), u(rng));
+      EXPECT_GE(m.length(v) * (1 + 1e-9), std::max(a.length(v), b.length(v)));
+    }
+  }
+}
+
+
+TEST(HessianField, MeanOfExpOverATetrahedron)
+{
+  using CGAL::Bubble_mesh_3::internal::mean_exp_over_tet;
+  // distinct values: 3! times the divided difference of exp
+  auto textbook = [](const std::array<double, 4>& a) {
+    double sum = 0;
+    for(int i = 0; i < 4; ++i) {
+      double denominator = 1;
+      for(int j = 0; j < 4; ++j)
+        if(j != i)
+          denominator *= a[std::size_t(i)] - a[std::size_t(j)];
+      sum += std::exp(a[std::size_t(i)]) / denominator;
+    }
+    return 6 * sum;
+  };
+  for(const std::array<double, 4>& a : {std::array<double, 4>{{0, 1.3, 2.9, 7.1}},
+                                        std::array<double, 4>{{-3, 4, 11, 15.5}},
+                                        std::array<double, 4>{{0, 9, 23, 40}}}) // subdivided
+    EXPECT_NEAR(mean_exp_over_tet(a) / textbook(a), 1.0, 1e-10);
+  EXPECT_NEAR(mean_exp_over_tet({{2, 2, 2, 2}}), std::exp(2.0), 1e-14);
+  // nearly equal values, where the textbook formula cancels: second order
+  const std::array<double, 4> close{{1, 1 + 1e-7, 1 - 2e-7, 1 + 3e-7}};
+  EXPECT_NEAR(mean_exp_over_tet(close), std::exp(1.0 + 0.5e-7), 1e-13);
+}

@@ -63,6 +63,13 @@ enum maximum_ring_size_t { maximum_ring_size };
 enum smoothing_iterations_t { smoothing_iterations };
 enum surface_projection_t { surface_projection };
 enum curve_projection_t { curve_projection };
+// Hessian_metric_field_3's
+enum interpolation_error_t { interpolation_error };
+enum target_number_of_vertices_t { target_number_of_vertices };
+enum error_norm_t { error_norm };
+enum minimum_size_t { minimum_size };
+enum maximum_size_t { maximum_size };
+enum maximum_anisotropy_t { maximum_anisotropy };
 } // namespace internal_np
 
 /// Named parameters: CGAL's, plus the package's own options as chaining members.
@@ -111,6 +118,12 @@ struct Named_function_parameters : CGAL::Named_function_parameters<T, Tag, Base>
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, smoothing_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, surface_projection)
   CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, curve_projection)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, interpolation_error)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, target_number_of_vertices)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, error_norm)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, minimum_size)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, maximum_size)
+  CGAL_BUBBLE_MESH_3_MEMBER(Bubble_mesh_3::internal_np, maximum_anisotropy)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, random_seed)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, number_of_iterations)
   CGAL_BUBBLE_MESH_3_MEMBER(CGAL::internal_np, callback)
@@ -189,6 +202,20 @@ CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, smoothing_iterations)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, surface_projection)
 /// `improve_mesh()`: the same for the feature curves (edge refs): vertices of curved curves slide on it (default none)
 CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, curve_projection)
+/// `Hessian_metric_field_3`: the P1 interpolation error asked (L-infinity), in the field's units
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, interpolation_error)
+/// `Hessian_metric_field_3`: the number of mesh vertices asked instead of an error (the metric minimising the
+/// L^p error for that many vertices)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, target_number_of_vertices)
+/// `Hessian_metric_field_3`: the p of the L^p norm that `target_number_of_vertices` minimises (default 2;
+/// infinity for L-infinity)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, error_norm)
+/// `Hessian_metric_field_3`: the smallest edge length the metric asks (default: the mesh's bounding box diagonal / 10^4)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, minimum_size)
+/// `Hessian_metric_field_3`: the largest edge length the metric asks (default: the bounding box diagonal / 10)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, maximum_size)
+/// `Hessian_metric_field_3`: the largest ratio of the metric's sizes at a point (default 1000)
+CGAL_BUBBLE_MESH_3_FREE(Bubble_mesh_3::internal_np, maximum_anisotropy)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, random_seed)
 CGAL_BUBBLE_MESH_3_FREE(CGAL::internal_np, number_of_iterations)
 /// CGAL's meaning: a `std::function<bool(double)>` called at every check point with the advancement of the

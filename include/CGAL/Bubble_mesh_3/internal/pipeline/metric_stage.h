@@ -84,7 +84,10 @@ auto with_prepared_metric(const MeshDomain& domain, const MetricField& field, co
   } else {
     // without a bound the field passes the user's metric through
     const auto t0 = std::chrono::steady_clock::now();
-    const auto realizable = CGAL::make_realizable_metric_field_3(field, s.realizable_metric);
+    // unqualified: the overloads of the fields interpolated from a mesh
+    // (Interpolated_, Hessian_metric_field_3) are found by ADL
+    using CGAL::make_realizable_metric_field_3;
+    const auto realizable = make_realizable_metric_field_3(field, s.realizable_metric);
     const auto approximating = CGAL::make_surface_approximation_metric_field_3(domain, realizable, s.surface_distance);
     rep.surface_distance_bound = approximating.bounded() ? approximating.distance() : 0;
     rep.surface_metric_seconds = seconds_since(t0);
