@@ -21,6 +21,9 @@
 #include <CGAL/Function_metric_field_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interpolated_metric_field_3.h>
+#include <CGAL/Graded_metric_field_3.h>
+#include <CGAL/Hessian_metric_field_3.h>
+#include <CGAL/Bubble_mesh_3/remesh_anisotropic_3.h>
 #include <CGAL/Realizable_metric_field_3.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
@@ -124,6 +127,24 @@ const char* const usage_text =
     "      the boundary, as the meshing report gives them.\n"
     "  bubble_mesh_3 convert IN.mesh OUT.{vtu,mesh}\n"
     "      Convert a MEDIT mesh to VTU (ParaView) or rewrite it as MEDIT.\n"
+    "  bubble_mesh_3 adapt IN.mesh --solution U.sol (--error E | --target-vertices N) -o OUT.mesh\n"
+    "                [--norm P] [--hmin A] [--hmax B] [--max-ratio R] [--gradation BETA]\n"
+    "                [--feature-angle DEG] [--interpolate-solution OUT.sol] [--metric-out M.sol]\n"
+    "                [--report R.json] [--vtu OUT.vtu] [--seed S] [--threads N] [--max-nodes N]\n"
+    "                [--time-limit SECONDS] [--no-improve] [--quiet]\n"
+    "      A new mesh of the domain of IN.mesh (MEDIT) for the interpolation error of\n"
+    "      the scalar solution U.sol (MEDIT, SolAtVertices type 1, one value per\n"
+    "      vertex of IN.mesh): Hessian recovered by a quadratic fit on vertex rings,\n"
+    "      metric M = (9/32)|H|/E (L-infinity error E), or scaled for about N\n"
+    "      vertices (L^P-optimal, P default 2); sizes within [A, B] (default diagonal\n"
+    "      x 1e-4 and / 10), anisotropy <= R (default 1000). --gradation bounds the\n"
+    "      growth of the metric: sizes grow at most by 1 + l ln(BETA) over metric\n"
+    "      length l (anisotropic, directions kept; default 1.5, 'off': none; the\n"
+    "      target N counts the vertices it adds). The boundary of IN.mesh is the\n"
+    "      surface meshed (edges between triangle references are feature curves);\n"
+    "      boundary and subdomain references are carried over. --interpolate-solution\n"
+    "      writes U interpolated (P1) at the new vertices; --metric-out the metric at\n"
+    "      the vertices of IN.mesh.\n"
     "  bubble_mesh_3 --help | --version\n"
     "\n"
     "METRIC (default: identity, i.e. unit isotropic size):\n"
@@ -677,6 +698,164 @@ int run_mesh(int argc, char** argv)
   return 0;
 }
 
+// bubble_mesh_3 adapt: a new mesh of the domain of IN.mesh for the Hessian
+// metric of a scalar solution on it (one step of a solution-adaptive loop).
+int run_adapt(int argc, char** argv)
+{
+  namespace BM = CGAL::Bubble_mesh_3;
+  const Options o = parse_options(argc, argv, 2,
+                                  {"-o", "--solution", "--error", "--target-vertices", "--norm", "--hmin", "--hmax",
+                                   "--max-ratio", "--gradation", "--feature-angle", "--interpolate-solution",
+                                   "--metric-out", "--report", "--vtu", "--seed", "--threads", "--max-nodes",
+                                   "--time-limit"},
+                                  {"--quiet", "--no-improve"});
+  if(o.positional.size() != 1)
+    throw Usage_error("adapt needs exactly one IN.mesh argument (see bubble_mesh_3 --help)");
+  const std::string in_path = o.positional[0];
+  if(!o.has("-o") || !ends_with(o.get("-o"), ".mesh"))
+    throw Usage_error("adapt: give -o OUT.mesh");
+  if(!o.has("--solution"))
+    throw Usage_error("adapt: give --solution U.sol (one scalar value per vertex of " + file_name(in_path) + ")");
+  if(o.has("--error") == o.has("--target-vertices"))
+    throw Usage_error("adapt: give exactly one of --error E and --target-vertices N");
+  for(const char* name : {"--interpolate-solution", "--metric-out"})
+    if(o.has(name) && !ends_with(o.get(name), ".sol"))
+      throw Usage_error(std::string(name) + ": '" + o.get(name) + "' must end in .sol");
+  if(o.has("--vtu") && !ends_with(o.get("--vtu"), ".vtu"))
+    throw Usage_error("--vtu: '" + o.get("--vtu") + "' must end in .vtu");
+  auto positive = [&](const char* name, double fallback) {
+    if(!o.has(name))
+      return fallback;
+    const double v = parse_number(o.get(name), name);
+    if(!(v > 0))
+      throw Usage_error(std::string(name) + " must be positive");
+    return v;
+  };
+  double gradation = 1.5;
+  if(o.has("--gradation")) {
+    gradation = o.get("--gradation") == "off" ? 0.0 : parse_number(o.get("--gradation"), "--gradation");
+    if(o.get("--gradation") != "off" && !(gradation > 1 && std::isfinite(gradation)))
+      throw Usage_error("--gradation must be a number above 1 (e.g. 1.5) or 'off'");
+  }
+  const bool quiet = o.has("--quiet");
+  const auto t0 = std::chrono::steady_clock::now();
+  auto progress = [&](const std::string& message) {
+    if(quiet)
+      return;
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::ostringstream line;
+    line << "[" << std::fixed << std::setprecision(1) << std::setw(7) << t << " s] " << message << "\n";
+    std::cerr << line.str();
+  };
+
+  const Indexed_tet_mesh_3 input = BIO::read_medit(in_path);
+  const std::vector<double> solution = BIO::read_scalar_sol(o.get("--solution"), input.points.size());
+  progress("read " + file_name(in_path) + ": " + std::to_string(input.points.size()) + " vertices, " +
+           std::to_string(input.tets.size()) + " tets; solution " + file_name(o.get("--solution")));
+  std::array<double, 3> lo{{1e300, 1e300, 1e300}}, hi{{-1e300, -1e300, -1e300}};
+  for(const auto& p : input.points)
+    for(int k = 0; k < 3; ++k) {
+      lo[std::size_t(k)] = std::min(lo[std::size_t(k)], p[std::size_t(k)]);
+      hi[std::size_t(k)] = std::max(hi[std::size_t(k)], p[std::size_t(k)]);
+    }
+  const double diagonal = std::sqrt(CGAL::square(hi[0] - lo[0]) + CGAL::square(hi[1] - lo[1]) + CGAL::square(hi[2] - lo[2]));
+  const double hmin = positive("--hmin", diagonal * 1e-4), hmax = positive("--hmax", diagonal / 10);
+  const double ratio = positive("--max-ratio", 1000);
+  const double norm = positive("--norm", 2);
+  const double angle = o.has("--feature-angle") ? parse_number(o.get("--feature-angle"), "--feature-angle") : 60.0;
+  if(!(angle >= 0 && angle <= 180))
+    throw Usage_error("--feature-angle must be between 0 and 180 degrees");
+  const double time_limit = positive("--time-limit", std::numeric_limits<double>::infinity());
+  const double max_nodes = positive("--max-nodes", BM::default_maximum_number_of_nodes);
+  const unsigned seed = o.has("--seed") ? unsigned(parse_count(o.get("--seed"), "--seed")) : 0u;
+  const int threads = o.has("--threads") ? parse_count(o.get("--threads"), "--threads") : 0;
+
+  const auto bounds =
+      BM::parameters::minimum_size(hmin).maximum_size(hmax).maximum_anisotropy(ratio).error_norm(norm);
+  const std::string name = "Hessian metric of " + file_name(o.get("--solution"));
+
+  BM::Meshing_report meshing;
+  Indexed_tet_mesh_3 mesh;
+  BM::Quality_report quality;
+  auto say_metric = [&](double estimate, const std::string& graded) {
+    std::ostringstream m;
+    m << "metric: Hessian of the solution, "
+      << (o.has("--error") ? "error " + o.get("--error") : "target " + o.get("--target-vertices") + " vertices")
+      << ", sizes in [" << hmin << ", " << hmax << "], ratio <= " << ratio << graded << "; about "
+      << std::lround(estimate) << " vertices";
+    progress(m.str());
+  };
+  auto run = [&](const auto& field) {
+    mesh = BM::remesh_anisotropic_3(
+        input, field,
+        BM::parameters::feature_angle(angle)
+            .random_seed(seed)
+            .number_of_threads(threads)
+            .maximum_number_of_bubbles(max_nodes)
+            .meshing_report(&meshing)
+            .mesh_improvement(!o.has("--no-improve"))
+            .time_limit(time_limit)
+            .should_stop(std::function<bool()>([] { return interrupt_requested != 0; }))
+            .progress_messages(std::function<void(const std::string&)>(progress)));
+    quality = BM::compute_quality_report(mesh, field);
+    if(o.has("--metric-out")) {
+      std::vector<Metric_3> metrics;
+      for(const auto& p : input.points)
+        metrics.push_back(field(K::Point_3(p[0], p[1], p[2])));
+      BIO::write_sol(o.get("--metric-out"), metrics);
+    }
+  };
+  auto build_and_run = [&](const auto& np) {
+    if(gradation > 0) {
+      const auto graded = CGAL::make_graded_hessian_metric_field_3<K>(input, solution, gradation, np, name);
+      say_metric(CGAL::Hessian_metric_field_3<K>::estimated_number_of_vertices(input, graded.vertex_metrics()),
+                 ", gradation " + std::to_string(gradation).substr(0, 4) + " (" +
+                     std::to_string(graded.number_of_clipped_vertices()) + " of " +
+                     std::to_string(input.points.size()) + " vertex metrics reduced)");
+      run(graded);
+    } else {
+      const CGAL::Hessian_metric_field_3<K> hessian(input, solution, np, name);
+      say_metric(hessian.estimated_number_of_vertices(), ", no gradation");
+      run(hessian);
+    }
+  };
+  try {
+    if(o.has("--error"))
+      build_and_run(bounds.interpolation_error(positive("--error", 0)));
+    else
+      build_and_run(
+          bounds.target_number_of_vertices(double(parse_count(o.get("--target-vertices"), "--target-vertices"))));
+  } catch(const BM::Meshing_failure& e) {
+    std::cerr << "bubble_mesh_3: meshing failed: " << e.what() << "\n";
+    return 3;
+  } catch(const BM::Time_limit_exceeded& e) {
+    std::cerr << "bubble_mesh_3: " << e.what() << " (--time-limit); nothing written\n";
+    return exit_time_limit;
+  } catch(const BM::Interrupted& e) {
+    std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT); nothing written\n";
+    return exit_interrupted;
+  }
+  quality.metric_description = "Hessian metric of " + file_name(o.get("--solution"));
+  BIO::write_medit(o.get("-o"), mesh);
+  progress("wrote " + o.get("-o"));
+  if(o.has("--interpolate-solution")) {
+    BIO::write_scalar_sol(o.get("--interpolate-solution"), BM::interpolate_vertex_values(input, solution, mesh.points));
+    progress("wrote " + o.get("--interpolate-solution"));
+  }
+  if(o.has("--vtu"))
+    BIO::write_vtu(o.get("--vtu"), mesh);
+  if(o.has("--report")) {
+    std::string json = BM::to_json(quality);
+    json.insert(json.rfind("\n}"), ",\n  \"meshing\": " + BM::to_json(meshing));
+    BIO::write_text_file(o.get("--report"), json + "\n");
+  }
+  if(!quiet) {
+    BM::print_meshing_summary(std::cout, meshing);
+    BM::print_quality_summary(std::cout, quality);
+  }
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -698,6 +877,8 @@ int main(int argc, char** argv)
       return run_eval(argc, argv);
     if(command == "convert")
       return run_convert(argc, argv);
+    if(command == "adapt")
+      return run_adapt(argc, argv);
     if(!command.empty() && command[0] != '-')
       return run_mesh(argc, argv);
     throw Usage_error("unknown command '" + command + "' (see bubble_mesh_3 --help)");

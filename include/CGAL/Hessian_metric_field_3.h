@@ -10,6 +10,7 @@
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/parameters.h>
 #include <CGAL/Bubble_mesh_3/recover_hessians.h>
+#include <CGAL/Graded_metric_field_3.h>
 #include <CGAL/Interpolated_metric_field_3.h>
 #include <CGAL/Realizable_metric_field_3.h>
 #include <CGAL/Named_function_parameters.h>
@@ -149,8 +150,24 @@ public:
   Hessian_metric_field_3(const Bubble_mesh_3::Indexed_tet_mesh_3& mesh, const std::vector<double>& values,
                          const NamedParameters& np = CGAL::parameters::default_values(),
                          const std::string& name = "Hessian metric")
-    : data_(build(mesh, values, np, name)), field_(mesh, data_->metrics, name)
+    : data_(build(mesh, Bubble_mesh_3::recover_hessians(mesh, values, name), np, name)),
+      field_(mesh, data_->metrics, name)
   {}
+
+  /// Builds the field from Hessians already recovered at the vertices of
+  /// `mesh` (e.g. `hessians()` of another field of the same values, to
+  /// rescale it without fitting again); same named parameters.
+  template <typename NamedParameters = CGAL::parameters::Default_named_parameters>
+  static Hessian_metric_field_3 from_hessians(const Bubble_mesh_3::Indexed_tet_mesh_3& mesh,
+                                              std::vector<Matrix> hessians,
+                                              const NamedParameters& np = CGAL::parameters::default_values(),
+                                              const std::string& name = "Hessian metric")
+  {
+    if(hessians.size() != mesh.points.size())
+      throw Bubble_mesh_3::Invalid_input(name + ": " + std::to_string(hessians.size()) + " Hessians for " +
+                                         std::to_string(mesh.points.size()) + " vertices");
+    return Hessian_metric_field_3(build(mesh, std::move(hessians), np, name), mesh, name);
+  }
 
   /// samples `f` (a callable `double(const Point_3&)`) at the vertices of
   /// `mesh` and builds the field from those values
@@ -181,6 +198,29 @@ public:
   double estimated_number_of_vertices() const { return vertex_estimate(data_->complexity, data_->boundary_area); }
   /// the interpolated field that evaluates the metric
   const Interpolated_metric_field_3<K>& interpolated_field() const { return field_; }
+  /// with `target_number_of_vertices`: the smallest target the size bounds
+  /// allow (every size at `maximum_size` where the Hessian allows it); 0 otherwise
+  double smallest_target() const { return data_->least_vertices; }
+
+  /// the vertex count of a mesh, in the metric given by `vertex_metrics` at
+  /// the vertices of `mesh` (log-Euclidean in between), of `mesh`'s domain:
+  /// the estimate `estimated_number_of_vertices()` makes for this field's own
+  /// metrics, for others (e.g. the same field graded)
+  static double estimated_number_of_vertices(const Bubble_mesh_3::Indexed_tet_mesh_3& mesh,
+                                             const std::vector<Metric>& vertex_metrics)
+  {
+    if(vertex_metrics.size() != mesh.points.size())
+      throw Bubble_mesh_3::Invalid_input("estimated_number_of_vertices: one metric per vertex is needed");
+    std::vector<double> log_root_det;
+    std::vector<Matrix> matrices;
+    log_root_det.reserve(vertex_metrics.size());
+    matrices.reserve(vertex_metrics.size());
+    for(const Metric& m : vertex_metrics) {
+      log_root_det.push_back(0.5 * std::log(m.determinant()));
+      matrices.push_back(m.matrix());
+    }
+    return vertex_estimate(complexity(mesh, log_root_det), metric_area(mesh, boundary_faces(mesh), matrices));
+  }
 
 private:
   // |H| at a vertex: eigenvectors and absolute eigenvalues
@@ -280,15 +320,16 @@ private:
     std::vector<Metric> metrics;
     double complexity = 0;
     double boundary_area = 0;
+    double least_vertices = 0; // the estimate with every size at the maximum (target mode)
   };
 
   template <typename NamedParameters>
   static std::shared_ptr<const Data> build(const Bubble_mesh_3::Indexed_tet_mesh_3& mesh,
-                                           const std::vector<double>& values, const NamedParameters& np,
+                                           std::vector<Matrix> recovered, const NamedParameters& np,
                                            const std::string& name)
   {
     auto data = std::make_shared<Data>();
-    data->hessians = Bubble_mesh_3::recover_hessians(mesh, values, name);
+    data->hessians = std::move(recovered);
     const std::vector<Matrix>& hessians = data->hessians;
     namespace BNP = Bubble_mesh_3::internal_np;
     using parameters::choose_parameter;
@@ -357,6 +398,7 @@ private:
       positive(target, "target_number_of_vertices");
       // the estimate grows with the scale from all-maximum to all-minimum sizes
       const double least = estimate_at(0), most = estimate_at(std::numeric_limits<double>::max());
+      data->least_vertices = least;
       if(!(target >= least && target <= most))
         throw Bubble_mesh_3::Invalid_input(name + ": target_number_of_vertices " +
                                            std::to_string(std::llround(target)) +
@@ -382,6 +424,11 @@ private:
     return data;
   }
 
+  Hessian_metric_field_3(std::shared_ptr<const Data> data, const Bubble_mesh_3::Indexed_tet_mesh_3& mesh,
+                         const std::string& name)
+    : data_(std::move(data)), field_(mesh, data_->metrics, name)
+  {}
+
   std::shared_ptr<const Data> data_;
   Interpolated_metric_field_3<K> field_;
 };
@@ -395,6 +442,74 @@ Interpolated_metric_field_3<K> make_realizable_metric_field_3(const Hessian_metr
                                                               bool enabled = true)
 {
   return make_realizable_metric_field_3(field.interpolated_field(), enabled);
+}
+
+/// \ingroup PkgBubbleMesh3MetricFields
+/// The Hessian metric of `values` (one per vertex of `mesh`) graded with
+/// `gradation` on `mesh` (`Graded_metric_field_3`). With
+/// `target_number_of_vertices`, the graded field meets the target: gradation
+/// only adds vertices, so the Hessian's target is lowered (a bracketed
+/// secant search on its logarithm, the Hessians fitted once) until the graded
+/// field's estimate is within 3 % of the target (at most 12 rounds; the
+/// closest is kept), but not below the smallest target the size bounds allow: a
+/// target too small for the graded field gives the smallest graded field
+/// (its `Hessian_metric_field_3::estimated_number_of_vertices(mesh,
+/// vertex_metrics())` says how many vertices it asks). Named parameters as
+/// `Hessian_metric_field_3`.
+template <typename K, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Graded_metric_field_3<Hessian_metric_field_3<K>>
+make_graded_hessian_metric_field_3(const Bubble_mesh_3::Indexed_tet_mesh_3& mesh, const std::vector<double>& values,
+                                   double gradation, const NamedParameters& np = CGAL::parameters::default_values(),
+                                   const std::string& name = "Hessian metric")
+{
+  typedef Hessian_metric_field_3<K> Hessian;
+  const double target = parameters::choose_parameter(
+      parameters::get_parameter(np, Bubble_mesh_3::internal_np::target_number_of_vertices),
+      std::numeric_limits<double>::quiet_NaN());
+  const Hessian first(mesh, values, np, name);
+  Graded_metric_field_3<Hessian> graded(first, mesh, gradation);
+  if(std::isnan(target))
+    return graded;
+  auto estimate_of = [&](const Graded_metric_field_3<Hessian>& g) {
+    return Hessian::estimated_number_of_vertices(mesh, g.vertex_metrics());
+  };
+  // the graded estimate grows with the Hessian's target: a search on
+  // log(target) between a target giving too few and one giving too many
+  // (secant steps, bisection when they leave the bracket)
+  const double lowest = first.smallest_target() * (1 + 1e-9);
+  double best_error = std::abs(std::log(estimate_of(graded) / target));
+  double low = std::log(lowest), high = std::log(target), at = high;
+  double f_at = std::log(estimate_of(graded) / target), f_low = std::numeric_limits<double>::quiet_NaN(), f_high = f_at;
+  if(f_at <= 0)
+    return graded; // gradation only adds vertices: at the target already
+  for(int round = 0; round < 12 && best_error > std::log(1.03); ++round) {
+    double next = at - f_at; // estimate roughly proportional to the target
+    if(!std::isnan(f_low) && f_high != f_low)
+      next = low - f_low * (high - low) / (f_high - f_low);
+    if(!(next > low && next < high))
+      next = std::isnan(f_low) ? low : 0.5 * (low + high);
+    const Bubble_mesh_3::Named_function_parameters<double, Bubble_mesh_3::internal_np::target_number_of_vertices_t,
+                                                   NamedParameters>
+        lowered(std::exp(next), np);
+    Graded_metric_field_3<Hessian> g(Hessian::from_hessians(mesh, first.hessians(), lowered, name), mesh, gradation);
+    const double f = std::log(estimate_of(g) / target);
+    if(std::abs(f) < best_error) {
+      best_error = std::abs(f);
+      graded = g;
+    }
+    at = next;
+    f_at = f;
+    if(f > 0) {
+      high = next;
+      f_high = f;
+    } else {
+      low = next;
+      f_low = f;
+    }
+    if(std::isnan(f_low) && next <= std::log(lowest) * (1 + 1e-12))
+      break; // even the smallest target asks too many: the smallest graded field
+  }
+  return graded;
 }
 
 } // namespace CGAL

@@ -147,6 +147,34 @@ public:
     return tet < 0 ? -1 : data_->original_tet[static_cast<std::size_t>(tet)];
   }
 
+  /// P1 location: the index (0-based) of a background tetrahedron containing
+  /// `p`, or -1 outside the background mesh; when found, `vertices` holds its
+  /// four vertex indices and `weights` the barycentric coordinates of `p`
+  /// for them (each at least -1e-10, summing to 1), so that
+  /// `sum weights[k] * value[vertices[k]]` interpolates vertex values linearly
+  int locate(const Point_3& p, std::array<int, 4>& vertices, std::array<double, 4>& weights) const
+  {
+    const Coordinates q = {{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}};
+    const int tet = data_->locate(q, weights);
+    if(tet < 0)
+      return -1;
+    vertices = data_->tets[static_cast<std::size_t>(tet)];
+    return data_->original_tet[static_cast<std::size_t>(tet)];
+  }
+
+  /// the background mesh (its points and tetrahedra; tetrahedra in the
+  /// order given at construction)
+  Bubble_mesh_3::Indexed_tet_mesh_3 background_mesh() const
+  {
+    const Data& d = *data_;
+    Bubble_mesh_3::Indexed_tet_mesh_3 mesh;
+    mesh.points = d.points;
+    mesh.tets.resize(d.tets.size());
+    for(std::size_t i = 0; i < d.tets.size(); ++i)
+      mesh.tets[std::size_t(d.original_tet[i])] = d.tets[i];
+    return mesh;
+  }
+
   /// the index (0-based) of the background vertex nearest to `p`
   std::size_t nearest_vertex(const Point_3& p) const
   {

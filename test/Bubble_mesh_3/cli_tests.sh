@@ -178,6 +178,54 @@ expect mesh-same-seed-same-mesh 0 "" -- "$tool" "$work/cube.off" -o "$work/m2.me
 check "same seed, 1 thread: identical file" cmp -s "$work/m.mesh" "$work/m2.mesh"
 expect mesh-cylindrical 0 "" -- "$tool" "$work/cube.off" -o "$work/mc.mesh" --metric-cylindrical 0.5,0.5,0,0,0,1,0.25,3,0.5 --quiet
 expect mesh-boundary-layer 0 "" -- "$tool" "$work/cube.off" -o "$work/mb.mesh" --metric-boundary-layer 0.1,0.3,0.2 --quiet
+# adapt: a new mesh of a mesh's domain for the Hessian metric of a solution
+# on it, references carried over. The solution: a tanh layer on a sphere.
+sol_of() { # MESH.mesh OUT.sol: u at the vertices (MEDIT scalar solution)
+  awk 'BEGIN { s = 0 } /^Vertices/ { s = 1; next }
+       s == 1 { n = $1; s = 2; printf "MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n%d\n1 1\n", n; next }
+       s == 2 { r = sqrt($1 * $1 + $2 * $2 + $3 * $3); x = 2 * (r - 0.8) / 0.05; if (x > 40) x = 40; if (x < -40) x = -40
+                e = exp(x); printf "%.17g\n", (e - 1) / (e + 1); if (--n == 0) { print "End"; exit } }' "$1" >"$2"
+}
+refs_of() { # MESH.mesh SECTION: the sorted distinct references of a section
+  awk -v sec="$2" '$1 == sec { getline; n = $1; s = 1; next } s == 1 && n > 0 { print $NF; n--; if (n == 0) s = 0 }' "$1" |
+    sort -n | uniq | tr '\n' ' '
+}
+count_of() { awk -v sec="$2" '$1 == sec { getline; print $1; exit }' "$1"; }
+if heavy; then
+  expect adapt-input 0 "" -- "$tool" "$work/cube.off" -o "$work/a0.mesh" --size 0.1 --seed 1 --quiet
+  sol_of "$work/a0.mesh" "$work/a0.sol"
+  check "solution written" [ "$(grep -c . "$work/a0.sol")" -gt 100 ]
+  expect adapt 0 "" -- "$tool" adapt "$work/a0.mesh" --solution "$work/a0.sol" --target-vertices 1500 \
+    -o "$work/a1.mesh" --interpolate-solution "$work/a1.sol" --metric-out "$work/a0_metric.sol" --report "$work/a1.json" --seed 1
+  check "adapt: progress names the metric" grep -q "Hessian of the solution, target 1500" "$work/err.txt"
+  check "adapt: boundary references kept ($(refs_of "$work/a0.mesh" Triangles)-> $(refs_of "$work/a1.mesh" Triangles))" \
+    [ "$(refs_of "$work/a0.mesh" Triangles)" = "$(refs_of "$work/a1.mesh" Triangles)" ]
+  check "adapt: subdomain references kept" [ "$(refs_of "$work/a0.mesh" Tetrahedra)" = "$(refs_of "$work/a1.mesh" Tetrahedra)" ]
+  n1="$(count_of "$work/a1.mesh" Vertices)"
+  check "adapt: 1500 +- 15 % vertices ($n1)" awk -v n="$n1" 'BEGIN { exit !(n >= 1275 && n <= 1725) }'
+  check "adapt: interpolated solution has one value per new vertex" \
+    [ "$(awk '/^SolAtVertices/ { getline; print $1; exit }' "$work/a1.sol")" = "$n1" ]
+  check "adapt: metric written at the input's vertices" \
+    [ "$(awk '/^SolAtVertices/ { getline; print $1; exit }' "$work/a0_metric.sol")" = "$(count_of "$work/a0.mesh" Vertices)" ]
+  expect adapt-output-valid 0 "" -- "$tool" eval "$work/a1.mesh" --require-valid --report "$work/a1v.json" --quiet
+  avol="$(json_value "$work/a1v.json" volume)"
+  check "adapted cube volume = 1 ($avol)" awk -v v="$avol" 'BEGIN { exit !(v > 0.999999999 && v < 1.000000001) }'
+  expect adapt-error-mode 0 "" -- "$tool" adapt "$work/a0.mesh" --solution "$work/a0.sol" --error 0.05 --gradation off \
+    -o "$work/a2.mesh" --hmax 0.2 --max-ratio 20 --quiet
+  # refusals: exit 2, one line, nothing written
+  expect adapt-size-mismatch 2 "SolAtVertices has .* entries but the mesh has" -- "$tool" adapt "$work/m.mesh" \
+    --solution "$work/a0.sol" --target-vertices 1000 -o "$work/ax.mesh"
+  expect adapt-no-solution 2 "give --solution" -- "$tool" adapt "$work/a0.mesh" --target-vertices 1000 -o "$work/ax.mesh"
+  expect adapt-both-modes 2 "exactly one of --error" -- "$tool" adapt "$work/a0.mesh" --solution "$work/a0.sol" \
+    --error 0.1 --target-vertices 1000 -o "$work/ax.mesh"
+  expect adapt-metric-sol 2 "exactly one scalar field" -- "$tool" adapt "$work/a0.mesh" --solution "$work/a0_metric.sol" \
+    --target-vertices 1000 -o "$work/ax.mesh"
+  expect adapt-bad-gradation 2 "gradation" -- "$tool" adapt "$work/a0.mesh" --solution "$work/a0.sol" \
+    --target-vertices 1000 --gradation 0.9 -o "$work/ax.mesh"
+  expect adapt-unreachable-target 2 "outside what the size bounds allow" -- "$tool" adapt "$work/a0.mesh" \
+    --solution "$work/a0.sol" --target-vertices 5 -o "$work/ax.mesh" --quiet
+  check "no output after adapt refusals" [ ! -e "$work/ax.mesh" ]
+fi
 # bad meshing input: exit 2, one line, no output file
 head -n 12 "$work/cube.off" | sed 's/^OFF$/OFF/' | awk 'NR==2{print "8 11 0"; next} {print}' >"$work/open.off"
 expect mesh-open-surface 2 "open.off" -- "$tool" "$work/open.off" -o "$work/open.mesh" --quiet

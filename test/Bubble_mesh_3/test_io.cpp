@@ -461,6 +461,37 @@ TEST(Sol, FormatErrorsAreRefused)
   expect_error<BM::Invalid_file>([&] { BM::IO::read_sol(missing, 0); }, {missing});
 }
 
+TEST(Sol, ScalarSolutionsRoundTripAndRefuseOtherLayouts)
+{
+  std::vector<double> values = {0.0, -1.5, 1e-300, 3.141592653589793, -2.5e17, 0.1};
+  const std::string path = scratch("scalar_roundtrip.sol");
+  BM::IO::write_scalar_sol(path, values);
+  EXPECT_EQ(BM::IO::read_scalar_sol(path, values.size()), values); // bitwise
+  EXPECT_EQ(BM::IO::read_scalar_sol(path).size(), values.size());
+  const std::string head = "MeshVersionFormatted 2\nDimension 3\n"; // lines 1-2
+  struct Case {
+    const char* file;
+    std::string text;
+    std::size_t expected;
+    int line;
+    std::string needle;
+  };
+  const std::vector<Case> cases = {
+    {"scalar_count.sol", head + "SolAtVertices\n2\n1 1\n1\n2\n", 3, 4, "2 entries but the mesh has 3 vertices"},
+    {"scalar_metric.sol", head + "SolAtVertices\n1\n1 3\n1 0 1 0 0 1\n", 1, 5, "exactly one scalar field"},
+    {"scalar_two.sol", head + "SolAtVertices\n1\n2 1 1\n1 2\n", 1, 5, "exactly one scalar field"},
+    {"scalar_nan.sol", head + "SolAtVertices\n2\n1 1\n1\nnan\n", 2, 7, "vertex 2: the value is not a finite number"},
+    {"scalar_fields.sol", head + "SolAtVertices\n2\n0\n1\n2\n", 2, 5, "invalid number of fields 0"},
+  };
+  for(const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    const std::string f = scratch(c.file);
+    write_text(f, c.text);
+    expect_error<BM::Invalid_file>([&] { BM::IO::read_scalar_sol(f, c.expected); },
+                                   {f + ":" + std::to_string(c.line) + ":", c.needle});
+  }
+}
+
 // ---------------------------------------------------------------- VTU
 
 // A tiny XML reader, enough for the files we write: checks that tags are

@@ -17,6 +17,7 @@
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
 #include <CGAL/Hessian_metric_field_3.h>
+#include <CGAL/Bubble_mesh_3/remesh_anisotropic_3.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/File_medit.h>
@@ -977,3 +978,179 @@ TEST(HessianField, TargetNumberOfVerticesIsMet)
   }
 }
 
+
+// ---- remesh_anisotropic_3: a new mesh of an existing mesh's domain ----
+
+int box_side_ref(const std::array<double, 3>& c);
+
+namespace {
+// the box's boundary faces with a reference per side, the top split in two
+// halves (x < 0.5: 6, else 7) along no crease: a reference boundary only
+void add_box_boundary_refs(BM::Indexed_tet_mesh_3& m)
+{
+  const BM::internal::Tet_mesh_boundary b = BM::internal::tet_mesh_boundary(m);
+  for(const auto& t : b.triangles) {
+    std::array<double, 3> c{{0, 0, 0}};
+    for(int v : t)
+      for(int k = 0; k < 3; ++k)
+        c[std::size_t(k)] += m.points[std::size_t(v)][std::size_t(k)] / 3;
+    m.triangles.push_back(t);
+    m.triangle_refs.push_back(box_side_ref(c));
+  }
+}
+} // namespace
+
+int box_side_ref(const std::array<double, 3>& c)
+{
+  const double eps = 1e-9;
+  if(c[0] < eps) return 1;
+  if(c[0] > 1 - eps) return 2;
+  if(c[1] < eps) return 3;
+  if(c[1] > 1 - eps) return 4;
+  if(c[2] < eps) return 5;
+  return c[0] < 0.5 ? 6 : 7;
+}
+
+TEST(Remesh, KeepsBoundaryAndSubdomainReferences)
+{
+  if(sanitized_build)
+    GTEST_SKIP() << "meshing 2,000 vertices is too slow under the sanitizers";
+  BM::Indexed_tet_mesh_3 input = jittered_box(12, 0.25, 1, 5);
+  input.tet_refs.assign(input.tets.size(), 4);
+  add_box_boundary_refs(input);
+  std::vector<double> u;
+  for(const auto& p : input.points)
+    u.push_back(std::tanh((std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 0.8) / 0.05));
+  const auto field =
+      CGAL::make_graded_hessian_metric_field_3<K>(input, u, 1.5, BM::parameters::target_number_of_vertices(2000));
+  const BM::Indexed_tet_mesh_3 out = BM::remesh_anisotropic_3(input, field, BM::parameters::random_seed(1u));
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  opt.expected_volume = 1;
+  opt.expected_volume_relative_tolerance = 1e-9;
+  const BM::Validity_report validity = BM::check_validity(out, opt);
+  EXPECT_TRUE(validity.is_valid());
+  std::cout << out.points.size() << " vertices for a target of 2000\n";
+  EXPECT_NEAR(double(out.points.size()), 2000, 200);
+  std::set<int> refs;
+  std::size_t wrong = 0;
+  for(std::size_t i = 0; i < out.triangles.size(); ++i) {
+    std::array<double, 3> c{{0, 0, 0}};
+    for(int v : out.triangles[i])
+      for(int k = 0; k < 3; ++k)
+        c[std::size_t(k)] += out.points[std::size_t(v)][std::size_t(k)] / 3;
+    refs.insert(out.triangle_refs[i]);
+    wrong += out.triangle_refs[i] != box_side_ref(c) ? 1 : 0;
+  }
+  EXPECT_EQ(refs, (std::set<int>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(wrong, 0u) << "boundary triangles whose reference is not their side's";
+  EXPECT_EQ(std::set<int>(out.tet_refs.begin(), out.tet_refs.end()), std::set<int>{4});
+  // the split top face's halves meet along a feature curve: no triangle
+  // straddles x = 0.5 there
+  for(const auto& t : out.triangles) {
+    int below = 0, above = 0, top = 0;
+    for(int v : t) {
+      const auto& p = out.points[std::size_t(v)];
+      top += p[2] > 1 - 1e-9 ? 1 : 0;
+      below += p[0] < 0.5 - 1e-9 ? 1 : 0;
+      above += p[0] > 0.5 + 1e-9 ? 1 : 0;
+    }
+    if(top == 3) {
+      EXPECT_FALSE(below > 0 && above > 0);
+    }
+  }
+  // P1 interpolation reproduces a linear function exactly
+  std::vector<double> lin;
+  for(const auto& p : input.points)
+    lin.push_back(1 + 2 * p[0] - p[1] + 0.5 * p[2]);
+  const std::vector<double> at = BM::interpolate_vertex_values(input, lin, out.points);
+  ASSERT_EQ(at.size(), out.points.size());
+  for(std::size_t i = 0; i < at.size(); ++i) {
+    const auto& p = out.points[i];
+    EXPECT_NEAR(at[i], 1 + 2 * p[0] - p[1] + 0.5 * p[2], 1e-12);
+  }
+}
+
+TEST(Remesh, SeparateSubdomainsAndRefusals)
+{
+  // two boxes, subdomains 3 and 5
+  BM::Indexed_tet_mesh_3 two = jittered_box(3, 0, 1, 0);
+  two.tet_refs.assign(two.tets.size(), 3);
+  {
+    BM::Indexed_tet_mesh_3 b = jittered_box(3, 0, 1, 0);
+    const int offset = int(two.points.size());
+    for(auto p : b.points) {
+      p[0] += 2;
+      two.points.push_back(p);
+    }
+    for(auto t : b.tets) {
+      for(int& v : t)
+        v += offset;
+      two.tets.push_back(t);
+      two.tet_refs.push_back(5);
+    }
+  }
+  const CGAL::Constant_metric_field_3<K> size(BM::Metric_3::isotropic(0.3));
+  const BM::Indexed_tet_mesh_3 out = BM::remesh_anisotropic_3(two, size, BM::parameters::random_seed(1u));
+  BM::Validity_options opt;
+  opt.expected_volume = 2;
+  opt.expected_volume_relative_tolerance = 1e-9;
+  EXPECT_TRUE(BM::check_validity(out, opt).is_valid());
+  std::size_t wrong = 0;
+  for(std::size_t t = 0; t < out.tets.size(); ++t) {
+    const double x = out.points[std::size_t(out.tets[t][0])][0];
+    wrong += out.tet_refs[t] != (x < 1.5 ? 3 : 5) ? 1 : 0;
+  }
+  EXPECT_EQ(wrong, 0u);
+  // an interface between two subdomains: refused, naming it
+  BM::Indexed_tet_mesh_3 split = jittered_box(4, 0, 1, 0);
+  for(const auto& t : split.tets) {
+    double x = 0;
+    for(int v : t)
+      x += split.points[std::size_t(v)][0] / 4;
+    split.tet_refs.push_back(x < 0.5 ? 1 : 2);
+  }
+  try {
+    BM::remesh_anisotropic_3(split, size);
+    ADD_FAILURE() << "an interface was accepted";
+  } catch(const BM::Invalid_input& e) {
+    EXPECT_NE(std::string(e.what()).find("interface between subdomains 1 and 2"), std::string::npos) << e.what();
+  }
+  // two tets sharing an edge only: the boundary is not a manifold
+  BM::Indexed_tet_mesh_3 pinched;
+  pinched.points = {{{0, 0, 0}}, {{0, 0, 1}}, {{1, 0, 0}}, {{0, 1, 0}}, {{-1, 0, 0}}, {{0, -1, 0}}};
+  pinched.tets = {{{0, 1, 2, 3}}, {{0, 1, 4, 5}}};
+  EXPECT_THROW(BM::remesh_anisotropic_3(pinched, size), BM::Invalid_input);
+  // a face of three tets, a flat tet, an index out of range
+  BM::Indexed_tet_mesh_3 bad = jittered_box(1, 0, 1, 0);
+  bad.tets.push_back(bad.tets.front());
+  EXPECT_THROW(BM::remesh_anisotropic_3(bad, size), BM::Invalid_input);
+  bad = jittered_box(1, 0, 1, 0);
+  bad.tets.front()[0] = 99;
+  EXPECT_THROW(BM::remesh_anisotropic_3(bad, size), BM::Invalid_input);
+  EXPECT_THROW(BM::remesh_anisotropic_3(BM::Indexed_tet_mesh_3(), size), BM::Invalid_input);
+}
+
+TEST(Remesh, FromAC3t3KeepsItsPatchesAndSubdomain)
+{
+  Polyhedron p = from_off(box_off(2, 1, 1));
+  Domain domain(p);
+  domain.detect_features(60);
+  const CGAL::Constant_metric_field_3<K> coarse(BM::Metric_3::isotropic(0.4));
+  const C3t3 c3t3 = CGAL::make_anisotropic_mesh_3<C3t3>(domain, coarse, BM::parameters::random_seed(2u));
+  std::set<int> patches;
+  for(auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f)
+    patches.insert(int(c3t3.surface_patch_index(*f)));
+  ASSERT_EQ(patches.size(), 6u);
+  const CGAL::Constant_metric_field_3<K> fine(BM::Metric_3::from_directions_and_sizes(
+      BM::Metric_3::Matrix::Identity(), BM::Metric_3::Vector(0.3, 0.15, 0.15)));
+  const BM::Indexed_tet_mesh_3 out = BM::remesh_anisotropic_3(c3t3, fine, BM::parameters::random_seed(2u));
+  BM::Validity_options opt;
+  opt.expected_volume = 2;
+  opt.expected_volume_relative_tolerance = 1e-9;
+  EXPECT_TRUE(BM::check_validity(out, opt).is_valid());
+  EXPECT_EQ(std::set<int>(out.triangle_refs.begin(), out.triangle_refs.end()), patches);
+  EXPECT_EQ(std::set<int>(out.tet_refs.begin(), out.tet_refs.end()),
+            std::set<int>{int(c3t3.subdomain_index(c3t3.cells_in_complex_begin()))});
+  EXPECT_GT(out.points.size(), 2 * c3t3.triangulation().number_of_vertices());
+}

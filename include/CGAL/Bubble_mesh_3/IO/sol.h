@@ -9,6 +9,8 @@
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <istream>
 #include <ostream>
@@ -33,12 +35,17 @@ inline int sol_type_size(long long type)
   }
 }
 
-inline std::vector<Metric_3> parse_sol(const char* begin, const char* end, const std::string& name,
-                                       std::size_t expected_number_of_vertices)
+// Reads the header and the sections of a MEDIT .sol file; `read_values(in, n,
+// type)` reads the n entries of the single SolAtVertices field (of type
+// `type`, already checked by `accept_type(type)`, which returns an error
+// message or an empty string).
+template <typename AcceptType, typename ReadValues>
+void parse_sol_file(const char* begin, const char* end, const std::string& name,
+                    std::size_t expected_number_of_vertices, const AcceptType& accept_type,
+                    const ReadValues& read_values)
 {
   Token_reader in(begin, end, name);
   bool has_version = false, has_dimension = false, has_solution = false;
-  std::vector<Metric_3> metrics;
 
   std::string_view token;
   bool have_token = in.next(token);
@@ -75,41 +82,15 @@ inline std::vector<Metric_3> parse_sol(const char* begin, const char* end, const
         in.fail("SolAtVertices has " + std::to_string(n) + " entries but the mesh has " +
                 std::to_string(expected_number_of_vertices) + " vertices");
       const long long fields = in.read_integer("SolAtVertices number of fields");
-      if(fields != 1)
-        in.fail("SolAtVertices has " + std::to_string(fields) +
-                " fields; exactly one metric field (type 3, or type 1 for a scalar size) is supported");
-      const long long type = in.read_integer("SolAtVertices field type");
-      if(type != 1 && type != 3)
-        in.fail("SolAtVertices field of type " + std::to_string(type) +
-                " is not a metric; expected 3 (symmetric matrix) or 1 (scalar size)");
-      metrics.reserve(n);
-      for(std::size_t i = 0; i < n; ++i) {
-        if(type == 3) {
-          double v[6];
-          v[0] = in.read_double("SolAtVertices");
-          const std::size_t line = in.line();
-          for(int k = 1; k < 6; ++k)
-            v[k] = in.read_double("SolAtVertices");
-          // file order: m11 m21 m22 m31 m32 m33
-          Metric_3::Matrix m;
-          m << v[0], v[1], v[3], v[1], v[2], v[4], v[3], v[4], v[5];
-          try {
-            metrics.emplace_back(m);
-          } catch(const Invalid_metric&) {
-            // Build the location string only on failure (this loop is hot);
-            // constructing again reproduces the error with it.
-            metrics.emplace_back(m, name + ":" + std::to_string(line) + ": vertex " + std::to_string(i + 1));
-          }
-        } else {
-          const double h = in.read_double("SolAtVertices");
-          try {
-            metrics.push_back(Metric_3::isotropic(h));
-          } catch(const Invalid_metric&) {
-            metrics.push_back(
-              Metric_3::isotropic(h, name + ":" + std::to_string(in.line()) + ": vertex " + std::to_string(i + 1)));
-          }
-        }
-      }
+      if(fields < 1 || fields > 64)
+        in.fail("invalid number of fields " + std::to_string(fields) + " in SolAtVertices");
+      std::vector<long long> types;
+      for(long long f = 0; f < fields; ++f)
+        types.push_back(in.read_integer("SolAtVertices field type"));
+      const std::string problem = accept_type(fields, types);
+      if(!problem.empty())
+        in.fail(problem);
+      read_values(in, n, types.front());
     } else if(token.size() > 5 && token.substr(0, 5) == "SolAt") {
       // another solution section (at triangles, tetrahedra...): read past it
       const std::string keyword(token);
@@ -137,7 +118,81 @@ inline std::vector<Metric_3> parse_sol(const char* begin, const char* end, const
   }
   if(!has_solution)
     in.fail("no SolAtVertices section");
+}
+
+inline std::vector<Metric_3> parse_sol(const char* begin, const char* end, const std::string& name,
+                                       std::size_t expected_number_of_vertices)
+{
+  std::vector<Metric_3> metrics;
+  auto accept = [](long long fields, const std::vector<long long>& types) -> std::string {
+    if(fields != 1)
+      return "SolAtVertices has " + std::to_string(fields) +
+             " fields; exactly one metric field (type 3, or type 1 for a scalar size) is supported";
+    if(types[0] != 1 && types[0] != 3)
+      return "SolAtVertices field of type " + std::to_string(types[0]) +
+             " is not a metric; expected 3 (symmetric matrix) or 1 (scalar size)";
+    return std::string();
+  };
+  auto read = [&](Token_reader& in, std::size_t n, long long type) {
+    metrics.reserve(n);
+    for(std::size_t i = 0; i < n; ++i) {
+      if(type == 3) {
+        double v[6];
+        v[0] = in.read_double("SolAtVertices");
+        const std::size_t line = in.line();
+        for(int k = 1; k < 6; ++k)
+          v[k] = in.read_double("SolAtVertices");
+        // file order: m11 m21 m22 m31 m32 m33
+        Metric_3::Matrix m;
+        m << v[0], v[1], v[3], v[1], v[2], v[4], v[3], v[4], v[5];
+        try {
+          metrics.emplace_back(m);
+        } catch(const Invalid_metric&) {
+          // Build the location string only on failure (this loop is hot);
+          // constructing again reproduces the error with it.
+          metrics.emplace_back(m, name + ":" + std::to_string(line) + ": vertex " + std::to_string(i + 1));
+        }
+      } else {
+        const double h = in.read_double("SolAtVertices");
+        try {
+          metrics.push_back(Metric_3::isotropic(h));
+        } catch(const Invalid_metric&) {
+          metrics.push_back(
+            Metric_3::isotropic(h, name + ":" + std::to_string(in.line()) + ": vertex " + std::to_string(i + 1)));
+        }
+      }
+    }
+  };
+  parse_sol_file(begin, end, name, expected_number_of_vertices, accept, read);
   return metrics;
+}
+
+inline std::vector<double> parse_scalar_sol(const char* begin, const char* end, const std::string& name,
+                                            std::size_t expected_number_of_vertices)
+{
+  std::vector<double> values;
+  auto accept = [](long long fields, const std::vector<long long>& types) -> std::string {
+    if(fields != 1 || types[0] != 1)
+      return "SolAtVertices must hold exactly one scalar field (1 1), got " + std::to_string(fields) +
+             " field(s) of type(s)" + [&] {
+               std::string t;
+               for(long long x : types)
+                 t += " " + std::to_string(x);
+               return t;
+             }();
+    return std::string();
+  };
+  auto read = [&](Token_reader& in, std::size_t n, long long) {
+    values.reserve(n);
+    for(std::size_t i = 0; i < n; ++i) {
+      const double v = in.read_double("SolAtVertices");
+      if(!std::isfinite(v))
+        in.fail("vertex " + std::to_string(i + 1) + ": the value is not a finite number");
+      values.push_back(v);
+    }
+  };
+  parse_sol_file(begin, end, name, expected_number_of_vertices, accept, read);
+  return values;
 }
 
 } // namespace internal
@@ -174,6 +229,35 @@ inline std::vector<Metric_3> read_sol(const std::string& path, std::size_t expec
 {
   const std::string buffer = internal::read_file_to_string(path);
   return internal::parse_sol(buffer.data(), buffer.data() + buffer.size(), path, expected_number_of_vertices);
+}
+
+/// \ingroup PkgBubbleMesh3IO
+/// Reads a scalar solution (one value per mesh vertex) from the MEDIT ASCII
+/// `.sol` file `path`: one `SolAtVertices` section with exactly one field of
+/// type 1 (`SolAtVertices N 1 1`); other `SolAt...` sections are read past.
+/// Throws `Invalid_file` (`path:line: ...`) on a format error, another field
+/// layout, a non-finite value, or (if `expected_number_of_vertices` is not 0)
+/// a count that differs from it.
+inline std::vector<double> read_scalar_sol(const std::string& path, std::size_t expected_number_of_vertices = 0)
+{
+  const std::string buffer = internal::read_file_to_string(path);
+  return internal::parse_scalar_sol(buffer.data(), buffer.data() + buffer.size(), path, expected_number_of_vertices);
+}
+
+/// \ingroup PkgBubbleMesh3IO
+/// Writes `values` (one per mesh vertex) as a MEDIT `.sol` scalar solution
+/// (`SolAtVertices N 1 1`), each value in the shortest decimal form that reads
+/// back to the same double, through a temporary file renamed at the end.
+inline void write_scalar_sol(const std::string& path, const std::vector<double>& values)
+{
+  write_file_atomically(path, [&values](std::ostream& os) {
+    internal::Number_writer w(os);
+    w.text("MeshVersionFormatted 2\n\nDimension 3\n\nSolAtVertices\n").number(values.size()).text("\n1 1\n\n");
+    for(double v : values)
+      w.number(v).put('\n');
+    w.text("\nEnd\n");
+    w.flush();
+  });
 }
 
 /// \ingroup PkgBubbleMesh3IO
