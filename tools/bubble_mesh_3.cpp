@@ -492,6 +492,42 @@ int parse_count(const std::string& text, const std::string& what)
   return static_cast<int>(v);
 }
 
+// One line per stage on stderr, with the seconds since this call (nothing
+// when quiet).
+std::function<void(const std::string&)> progress_printer(bool quiet)
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  return [quiet, t0](const std::string& message) {
+    if(quiet)
+      return;
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::ostringstream line;
+    line << "[" << std::fixed << std::setprecision(1) << std::setw(7) << t << " s] " << message << "\n";
+    std::cerr << line.str();
+  };
+}
+
+// Runs a meshing; a failure or a stop is reported on one line and becomes
+// the exit code (0: the mesh was made; nothing is written otherwise).
+template <typename Run>
+int exit_code_of_meshing(const Run& run)
+{
+  namespace BM = CGAL::Bubble_mesh_3;
+  try {
+    run();
+  } catch(const BM::Meshing_failure& e) {
+    std::cerr << "bubble_mesh_3: meshing failed: " << e.what() << "\n";
+    return 3;
+  } catch(const BM::Time_limit_exceeded& e) {
+    std::cerr << "bubble_mesh_3: " << e.what() << " (--time-limit); nothing written\n";
+    return exit_time_limit;
+  } catch(const BM::Interrupted& e) {
+    std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT); nothing written\n";
+    return exit_interrupted;
+  }
+  return 0;
+}
+
 int run_mesh(int argc, char** argv)
 {
   typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
@@ -549,15 +585,7 @@ int run_mesh(int argc, char** argv)
     if(v != "off" && v != "auto" && !(surface_distance > 0))
       throw Usage_error("--surface-distance must be a positive length, 'auto' or 'off'");
   }
-  const auto t0 = std::chrono::steady_clock::now();
-  auto progress = [&](const std::string& message) {
-    if(quiet)
-      return;
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::ostringstream line;
-    line << "[" << std::fixed << std::setprecision(1) << std::setw(7) << t << " s] " << message << "\n";
-    std::cerr << line.str();
-  };
+  const std::function<void(const std::string&)> progress = progress_printer(quiet);
 
   const std::string surface_path = o.positional[0];
   BIO::Surface_check_report checks;
@@ -613,7 +641,7 @@ int run_mesh(int argc, char** argv)
   Indexed_tet_mesh_3 mesh;
   BM::Quality_report quality;
   std::vector<double> per_tet;
-  try {
+  const int failed = exit_code_of_meshing([&] {
     metric.visit([&](const auto& given_field) {
       // the user's, with large sizes reduced where its frame turns too fast for them
       const auto user_field = CGAL::make_realizable_metric_field_3(given_field, realizable);
@@ -649,16 +677,9 @@ int run_mesh(int argc, char** argv)
         per_tet = BM::metric_minimum_dihedral_angles(mesh, field);
       return 0;
     });
-  } catch(const BM::Meshing_failure& e) {
-    std::cerr << "bubble_mesh_3: meshing failed: " << e.what() << "\n";
-    return 3;
-  } catch(const BM::Time_limit_exceeded& e) {
-    std::cerr << "bubble_mesh_3: " << e.what() << " (--time-limit); nothing written\n";
-    return exit_time_limit;
-  } catch(const BM::Interrupted& e) {
-    std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT); nothing written\n";
-    return exit_interrupted;
-  }
+  });
+  if(failed != 0)
+    return failed;
   quality.metric_description = description;
   // An interrupt after the meshing stops before the next file; the files
   // already written are complete.
@@ -738,15 +759,7 @@ int run_adapt(int argc, char** argv)
       throw Usage_error("--gradation must be a number above 1 (e.g. 1.5) or 'off'");
   }
   const bool quiet = o.has("--quiet");
-  const auto t0 = std::chrono::steady_clock::now();
-  auto progress = [&](const std::string& message) {
-    if(quiet)
-      return;
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::ostringstream line;
-    line << "[" << std::fixed << std::setprecision(1) << std::setw(7) << t << " s] " << message << "\n";
-    std::cerr << line.str();
-  };
+  const std::function<void(const std::string&)> progress = progress_printer(quiet);
 
   const Indexed_tet_mesh_3 input = BIO::read_medit(in_path);
   const std::vector<double> solution = BIO::read_scalar_sol(o.get("--solution"), input.points.size());
@@ -819,22 +832,15 @@ int run_adapt(int argc, char** argv)
       run(hessian);
     }
   };
-  try {
+  const int failed = exit_code_of_meshing([&] {
     if(o.has("--error"))
       build_and_run(bounds.interpolation_error(positive("--error", 0)));
     else
       build_and_run(
           bounds.target_number_of_vertices(double(parse_count(o.get("--target-vertices"), "--target-vertices"))));
-  } catch(const BM::Meshing_failure& e) {
-    std::cerr << "bubble_mesh_3: meshing failed: " << e.what() << "\n";
-    return 3;
-  } catch(const BM::Time_limit_exceeded& e) {
-    std::cerr << "bubble_mesh_3: " << e.what() << " (--time-limit); nothing written\n";
-    return exit_time_limit;
-  } catch(const BM::Interrupted& e) {
-    std::cerr << "bubble_mesh_3: " << e.what() << " (SIGINT); nothing written\n";
-    return exit_interrupted;
-  }
+  });
+  if(failed != 0)
+    return failed;
   quality.metric_description = "Hessian metric of " + file_name(o.get("--solution"));
   BIO::write_medit(o.get("-o"), mesh);
   progress("wrote " + o.get("-o"));
