@@ -12,7 +12,8 @@
 // fixed quasi-random sample of the domain) is compared with uniform isotropic
 // meshes of the same domain and about the same vertex count.
 //
-//   adaptation_loop [--full] [--csv OUT.csv]
+//   adaptation_loop [--full] [--cube-only] [--width W] [--csv OUT.csv]
+// (--width: the layer's width, default 0.01)
 // Without --full (the run ctest does): the unit cube, targets 4,000 and 8,000,
 // 3 remeshings each; the program fails unless the adapted L2 error is at
 // least 5 times below the uniform mesh's at each target and falls at least as
@@ -44,10 +45,11 @@ namespace BM = CGAL::Bubble_mesh_3;
 
 namespace {
 
-// the solution: a layer of width 0.01 along the sphere of radius 0.75 around the origin
+// the solution: a layer of width `layer_width` along the sphere of radius 0.75 around the origin
+double layer_width = 0.01;
 double solution(const std::array<double, 3>& p)
 {
-  return std::tanh((std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 0.75) / 0.01);
+  return std::tanh((std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 0.75) / layer_width);
 }
 
 struct Test_domain {
@@ -123,7 +125,7 @@ BM::Indexed_tet_mesh_3 uniform_mesh(const Domain& domain, double size)
 
 int main(int argc, char** argv)
 {
-  bool full = false;
+  bool full = false, cube_only = false;
   std::string csv_path;
   for(int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -131,12 +133,17 @@ int main(int argc, char** argv)
       full = true;
     else if(a == "--csv" && i + 1 < argc)
       csv_path = argv[++i];
+    else if(a == "--width" && i + 1 < argc && std::atof(argv[i + 1]) > 0)
+      layer_width = std::atof(argv[++i]);
+    else if(a == "--cube-only")
+      cube_only = true;
     else {
-      std::cerr << "usage: adaptation_loop [--full] [--csv OUT.csv]\n";
+      std::cerr << "usage: adaptation_loop [--full] [--cube-only] [--width W] [--csv OUT.csv]\n";
       return EXIT_FAILURE;
     }
   }
-  const std::vector<Test_domain> domains = full ? std::vector<Test_domain>{cube, l_block} : std::vector<Test_domain>{cube};
+  const std::vector<Test_domain> domains =
+      full && !cube_only ? std::vector<Test_domain>{cube, l_block} : std::vector<Test_domain>{cube};
   const std::vector<double> targets =
       full ? std::vector<double>{2000, 4000, 8000, 16000, 32000} : std::vector<double>{4000, 8000};
   const int iterations = full ? 5 : 3;

@@ -76,7 +76,9 @@ def main(argv):
             for x, y in finals:
                 out.append('<circle cx="%.1f" cy="%.1f" r="4" fill="%s"/>' % (px(x), py(y), c))
             legend.append((c, "", d + ": adapted (last remesh)"))
-            # the N^(-2/3) reference through the first final point
+            if k > 0:
+                continue
+            # the N^(-2/3) reference through the first domain's first final point
             xa, ya = sorted(finals)[0]
             xb = max(xs)
             out.append('<line x1="%.1f" y1="%.1f" x2="%.1f" y2="%.1f" stroke="black" stroke-dasharray="2,3"/>'
