@@ -528,6 +528,20 @@ int exit_code_of_meshing(const Run& run)
   return 0;
 }
 
+// The pipeline's options common to the mesh and adapt commands (SIGINT stops it).
+auto meshing_parameters(unsigned seed, int threads, double max_nodes, CGAL::Bubble_mesh_3::Meshing_report& report,
+                        bool improve, double time_limit, const std::function<void(const std::string&)>& progress)
+{
+  return CGAL::Bubble_mesh_3::parameters::random_seed(seed)
+      .number_of_threads(threads)
+      .maximum_number_of_bubbles(max_nodes)
+      .meshing_report(&report)
+      .mesh_improvement(improve)
+      .time_limit(time_limit)
+      .should_stop(std::function<bool()>([] { return interrupt_requested != 0; }))
+      .progress_messages(progress);
+}
+
 int run_mesh(int argc, char** argv)
 {
   typedef CGAL::Polyhedral_mesh_domain_with_features_3<K> Domain;
@@ -664,14 +678,7 @@ int run_mesh(int argc, char** argv)
         description += ", refined at small features";
       mesh = BM::make_indexed_anisotropic_mesh_3(
           domain, field,
-          BM::parameters::random_seed(seed)
-              .number_of_threads(threads)
-              .maximum_number_of_bubbles(max_nodes)
-              .meshing_report(&meshing)
-              .mesh_improvement(!o.has("--no-improve"))
-              .time_limit(time_limit)
-              .should_stop(std::function<bool()>([] { return interrupt_requested != 0; }))
-              .progress_messages(std::function<void(const std::string&)>(progress)));
+          meshing_parameters(seed, threads, max_nodes, meshing, !o.has("--no-improve"), time_limit, progress));
       quality = BM::compute_quality_report(mesh, field);
       if(o.has("--vtu") || o.has("--section"))
         per_tet = BM::metric_minimum_dihedral_angles(mesh, field);
@@ -801,15 +808,8 @@ int run_adapt(int argc, char** argv)
   auto run = [&](const auto& field) {
     mesh = BM::remesh_anisotropic_3(
         input, field,
-        BM::parameters::feature_angle(angle)
-            .random_seed(seed)
-            .number_of_threads(threads)
-            .maximum_number_of_bubbles(max_nodes)
-            .meshing_report(&meshing)
-            .mesh_improvement(!o.has("--no-improve"))
-            .time_limit(time_limit)
-            .should_stop(std::function<bool()>([] { return interrupt_requested != 0; }))
-            .progress_messages(std::function<void(const std::string&)>(progress)));
+        meshing_parameters(seed, threads, max_nodes, meshing, !o.has("--no-improve"), time_limit, progress)
+            .feature_angle(angle));
     quality = BM::compute_quality_report(mesh, field);
     if(o.has("--metric-out")) {
       std::vector<Metric_3> metrics;

@@ -430,17 +430,20 @@ TEST(Sol, InvalidMetricsNameFileLineAndVertex)
   }
 }
 
+// a .sol file that must be refused: its text, the vertex count expected, the
+// line and a phrase the message must name
+struct Sol_error_case {
+  const char* file;
+  std::string text;
+  std::size_t expected;
+  int line;
+  std::string needle;
+};
+
 TEST(Sol, FormatErrorsAreRefused)
 {
   const std::string head = "MeshVersionFormatted 2\nDimension 3\n"; // lines 1-2
-  struct Case {
-    const char* file;
-    std::string text;
-    std::size_t expected;
-    int line;
-    std::string needle;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<Sol_error_case> cases = {
     {"count.sol", head + "SolAtVertices\n3\n1 3\n1 0 1 0 0 1\n1 0 1 0 0 1\n1 0 1 0 0 1\n", 4, 4,
      "3 entries but the mesh has 4 vertices"},
     {"type.sol", head + "SolAtVertices\n1\n1 2\n1 0 0\n", 1, 5, "type 2"},
@@ -450,7 +453,7 @@ TEST(Sol, FormatErrorsAreRefused)
     {"dimension.sol", "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n1\n1 3\n1 0 1\n", 0, 2, "Dimension 2"},
     {"garbage.sol", head + "SolAtVertices\n1\n1 3\n1 0 1 0 x 1\n", 1, 6, "'x'"},
   };
-  for(const Case& c : cases) {
+  for(const Sol_error_case& c : cases) {
     SCOPED_TRACE(c.file);
     const std::string path = scratch(c.file);
     write_text(path, c.text);
@@ -469,21 +472,14 @@ TEST(Sol, ScalarSolutionsRoundTripAndRefuseOtherLayouts)
   EXPECT_EQ(BM::IO::read_scalar_sol(path, values.size()), values); // bitwise
   EXPECT_EQ(BM::IO::read_scalar_sol(path).size(), values.size());
   const std::string head = "MeshVersionFormatted 2\nDimension 3\n"; // lines 1-2
-  struct Case {
-    const char* file;
-    std::string text;
-    std::size_t expected;
-    int line;
-    std::string needle;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<Sol_error_case> cases = {
     {"scalar_count.sol", head + "SolAtVertices\n2\n1 1\n1\n2\n", 3, 4, "2 entries but the mesh has 3 vertices"},
     {"scalar_metric.sol", head + "SolAtVertices\n1\n1 3\n1 0 1 0 0 1\n", 1, 5, "exactly one scalar field"},
     {"scalar_two.sol", head + "SolAtVertices\n1\n2 1 1\n1 2\n", 1, 5, "exactly one scalar field"},
     {"scalar_nan.sol", head + "SolAtVertices\n2\n1 1\n1\nnan\n", 2, 7, "vertex 2: the value is not a finite number"},
     {"scalar_fields.sol", head + "SolAtVertices\n2\n0\n1\n2\n", 2, 5, "invalid number of fields 0"},
   };
-  for(const Case& c : cases) {
+  for(const Sol_error_case& c : cases) {
     SCOPED_TRACE(c.file);
     const std::string f = scratch(c.file);
     write_text(f, c.text);
