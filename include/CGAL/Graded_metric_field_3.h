@@ -9,6 +9,7 @@
 #include <CGAL/Bubble_mesh_3/Indexed_tet_mesh_3.h>
 #include <CGAL/Bubble_mesh_3/Metric_3.h>
 #include <CGAL/Bubble_mesh_3/exceptions.h>
+#include <CGAL/Bubble_mesh_3/recover_hessians.h>
 #include <CGAL/Interpolated_metric_field_3.h>
 #include <CGAL/Realizable_metric_field_3.h>
 
@@ -28,20 +29,6 @@ namespace CGAL {
 
 namespace Bubble_mesh_3 {
 namespace internal {
-
-/// the unique edges of the tets of `mesh`, each as (smaller, larger) index
-inline std::vector<std::array<int, 2>> unique_tet_edges(const Indexed_tet_mesh_3& mesh)
-{
-  std::vector<std::array<int, 2>> edges;
-  edges.reserve(mesh.tets.size() * 6);
-  for(const auto& t : mesh.tets)
-    for(int i = 0; i < 4; ++i)
-      for(int j = i + 1; j < 4; ++j)
-        edges.push_back({{std::min(t[i], t[j]), std::max(t[i], t[j])}});
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  return edges;
-}
 
 /// A box split into `n` x `n` x `n` cubes of 6 tets each (Kuhn's
 /// subdivision, all tets around the cube's main diagonal: conforming): the
@@ -217,30 +204,16 @@ private:
     if(bg.tets.empty())
       throw Bubble_mesh_3::Invalid_input("Graded_metric_field_3: the background mesh has no tetrahedra");
     const std::size_t n = bg.points.size();
-    std::vector<Metric> given, graded;
-    given.reserve(n);
+    for(const auto& t : bg.tets)
+      for(int v : t)
+        if(v < 0 || std::size_t(v) >= n)
+          throw Bubble_mesh_3::Invalid_input("Graded_metric_field_3: a background tet has a vertex index out of range");
+    std::vector<Metric> graded;
+    graded.reserve(n);
     for(const auto& p : bg.points)
-      given.push_back(field(Point_3(p[0], p[1], p[2])));
-    graded = given;
-    // neighbours through the tets' edges
-    const auto edges = Bubble_mesh_3::internal::unique_tet_edges(bg);
-    std::vector<std::size_t> offsets(n + 1, 0);
-    for(const auto& e : edges) {
-      if(e[0] < 0 || std::size_t(e[1]) >= n)
-        throw Bubble_mesh_3::Invalid_input("Graded_metric_field_3: a background tet has a vertex index out of range");
-      ++offsets[std::size_t(e[0]) + 1];
-      ++offsets[std::size_t(e[1]) + 1];
-    }
-    for(std::size_t i = 0; i < n; ++i)
-      offsets[i + 1] += offsets[i];
-    std::vector<int> neighbours(offsets[n]);
-    {
-      std::vector<std::size_t> fill(offsets.begin(), offsets.end() - 1);
-      for(const auto& e : edges) {
-        neighbours[fill[std::size_t(e[0])]++] = e[1];
-        neighbours[fill[std::size_t(e[1])]++] = e[0];
-      }
-    }
+      graded.push_back(field(Point_3(p[0], p[1], p[2])));
+    // neighbours through the tets' edges (the Hessian fit's adjacency)
+    const std::vector<std::vector<int>> neighbours = Bubble_mesh_3::internal::vertex_neighbours(bg);
     const double log_beta = std::log(beta);
     std::vector<char> clipped(n, 0), queued(n, 1);
     std::deque<int> work;
@@ -253,8 +226,8 @@ private:
       queued[p] = 0;
       const Metric& mp = graded[p];
       const auto& xp = bg.points[p];
-      for(std::size_t j = offsets[p]; j < offsets[p + 1]; ++j) {
-        const std::size_t q = std::size_t(neighbours[j]);
+      for(const int neighbour : neighbours[p]) {
+        const std::size_t q = std::size_t(neighbour);
         const auto& xq = bg.points[q];
         const Metric::Vector pq(xq[0] - xp[0], xq[1] - xp[1], xq[2] - xp[2]);
         const double grow = 1 + mp.length(pq) * log_beta;
