@@ -14,8 +14,8 @@
 #include <CGAL/Bubble_mesh_3/internal/pipeline/boundary_stage.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/c3t3_stage.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/domain_mesh.h>
+#include <CGAL/Bubble_mesh_3/internal/pipeline/domain_surface.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/improvement_stage.h>
-#include <CGAL/Bubble_mesh_3/internal/pipeline/input_stage.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/metric_stage.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/packing_stage.h>
 #include <CGAL/Bubble_mesh_3/internal/pipeline/run_control.h>
@@ -50,29 +50,14 @@ struct Anisotropic_mesh_triangulation_3 {
 namespace Bubble_mesh_3 {
 namespace internal {
 
-// Whether the domain gives its surface as polyhedra (what the boundary front
-// triangulates): `Polyhedral_mesh_domain_with_features_3` does.
-template <typename D, typename = void>
-struct Has_polyhedra : std::false_type {};
-template <typename D>
-struct Has_polyhedra<D, std::void_t<decltype(std::declval<const D&>().polyhedra())>> : std::true_type {};
-
-template <typename MeshDomain>
-constexpr void check_domain_type()
-{
-  static_assert(Has_polyhedra<MeshDomain>::value,
-                "make_anisotropic_mesh_3: the domain must give its surface as triangle polyhedra with features "
-                "(CGAL::Polyhedral_mesh_domain_with_features_3 after detect_features()). Implicit and labelled "
-                "domains (Labeled_mesh_domain_3) can be packed by CGAL::Bubble_packer_3, but the boundary front "
-                "of the pipeline needs a triangulated input surface: not supported yet.");
-}
-
 /// The stages in the order of the data flow (doc/design.md), each in its own
-/// header of internal/pipeline/ and owning its inputs and outputs.
-template <typename MeshDomain, typename MetricField>
-Domain_mesh mesh_domain_with_metric(const MeshDomain& domain, const MetricField& field, const Meshing_settings& s,
+/// header of internal/pipeline/ and owning its inputs and outputs; `surface`
+/// is stage 0's (domain_surface.h).
+template <typename Surface, typename MetricField>
+Domain_mesh mesh_domain_with_metric(const Surface& surface, const MetricField& field, const Meshing_settings& s,
                                     const Run_control& control, Meshing_report& rep)
 {
+  const auto& domain = surface.meshed_domain();
   const auto nodes = pack_nodes(domain, field, s, control, rep);
   Domain_mesh out;
   const Domain_boundary boundary = boundary_stage(domain, field, nodes, control, rep, out);
@@ -81,22 +66,24 @@ Domain_mesh mesh_domain_with_metric(const MeshDomain& domain, const MetricField&
     improvement_stage(field, boundary, s, control, rep, out);
   rep.final_tets = out.mesh.tets.size();
   control.check("the improvement", false);
-  // the boundary front checks its triangles, the improvement what it changed
-  validation_stage(out.mesh, boundary, /*boundary_checked_for_self_intersections=*/true, control, rep);
+  surface.project_boundary(out, rep);
+  // the boundary front checks its triangles, the improvement what it
+  // changed; the projection onto an implicit surface is checked here
+  validation_stage(out.mesh, boundary, /*boundary_checked_for_self_intersections=*/!Surface::moves_boundary, control,
+                   rep);
   return out;
 }
 
-/// The whole pipeline up to the domain's tet mesh: the input check, then the
-/// field to mesh (metric_stage.h), then the stages.
-template <typename MeshDomain, typename MetricField>
-Domain_mesh mesh_domain(const MeshDomain& domain, const MetricField& field, Pipeline_run& run)
+/// The whole pipeline after stage 0: the field to mesh (metric_stage.h),
+/// then the stages.
+template <typename Surface, typename MetricField>
+Domain_mesh mesh_domain(const Surface& surface, const MetricField& field, Pipeline_run& run)
 {
-  check_domain_type<MeshDomain>();
-  check_domain_surface(domain); // a bad surface would fail only after the packing
-  run.control.check("the input checks");
-  return with_prepared_metric(domain, field, run.settings, run.control, run.report, [&](const auto& prepared) {
-    return mesh_domain_with_metric(domain, prepared, run.settings, run.control, run.report);
-  });
+  return with_prepared_metric(surface.meshed_domain(), field, run.settings, run.control, run.report,
+                              [&](const auto& prepared) {
+                                return mesh_domain_with_metric(surface, prepared, run.settings, run.control,
+                                                               run.report);
+                              });
 }
 
 } // namespace internal
@@ -110,8 +97,10 @@ template <typename MeshDomain, typename MetricField, typename NamedParameters = 
 Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, const MetricField& field,
                                                    const NamedParameters& np = CGAL::parameters::default_values())
 {
+  internal::check_domain_type<MeshDomain>();
   internal::Pipeline_run run(np);
-  Indexed_tet_mesh_3 mesh = internal::mesh_domain(domain, field, run).mesh;
+  const internal::Domain_surface<MeshDomain> surface(domain, field, run.control, run.report);
+  Indexed_tet_mesh_3 mesh = internal::mesh_domain(surface, field, run).mesh;
   run.finish();
   return mesh;
 }
@@ -131,7 +120,13 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///
 /// \tparam C3T3 `Mesh_complex_3_in_triangulation_3<Tr, MeshDomain::Corner_index,
 ///   MeshDomain::Curve_index>` with `Tr = Anisotropic_mesh_triangulation_3<MeshDomain>::type`
-/// \tparam MeshDomain `Polyhedral_mesh_domain_with_features_3` (after `detect_features()`)
+/// \tparam MeshDomain `Polyhedral_mesh_domain_with_features_3` (after `detect_features()`), or a model of
+///   `MeshDomain_3` of one subdomain such as `Labeled_mesh_domain_3` (an implicit function, a labelling function,
+///   a segmented image), optionally with `Mesh_domain_with_polyline_features_3`: its boundary is meshed by CGAL
+///   Mesh_3 into a fine polyhedral copy (chord error 1e-4 of the bounding box diagonal, or a tenth of the metric's
+///   smallest size on the surface), the stages mesh that copy, and the boundary vertices are then moved onto the
+///   domain's surface and curves (`Meshing_report::snapped_boundary_vertices`); the complex gets the domain's
+///   indices
 /// \tparam MetricField a model of `MetricField_3`
 ///
 /// \cgalNamedParamsBegin
@@ -193,7 +188,9 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 ///
 /// Throws `Bubble_mesh_3::Invalid_input` (a domain surface refused by
 /// `Bubble_mesh_3::IO::check_triangle_surface()`: zero-area faces, flat,
-/// self-intersecting, components oriented against their nesting; a bad
+/// self-intersecting, components oriented against their nesting; an implicit
+/// domain with no inside point on a 48^3 grid over its bounding box, or with
+/// several subdomains; a bad
 /// metric; `Bubble_mesh_3::Too_many_nodes`), `Bubble_mesh_3::Meshing_failure` (no valid mesh, including a
 /// mesh the exterior padding or the C3T3 conversion refuses)
 /// or `Bubble_mesh_3::Interrupted` / `Bubble_mesh_3::Time_limit_exceeded`
@@ -205,9 +202,11 @@ void make_anisotropic_mesh_3(C3T3& c3t3, const MeshDomain& domain, const MetricF
                              const NamedParameters& np = CGAL::parameters::default_values())
 {
   namespace BMI = Bubble_mesh_3::internal;
+  BMI::check_domain_type<MeshDomain>();
   BMI::Pipeline_run run(np);
-  const BMI::Domain_mesh dm = BMI::mesh_domain(domain, field, run);
-  BMI::c3t3_stage(dm, domain, run.control, run.report, c3t3);
+  const BMI::Domain_surface<MeshDomain> surface(domain, field, run.control, run.report);
+  const BMI::Domain_mesh dm = BMI::mesh_domain(surface, field, run);
+  BMI::c3t3_stage(dm, surface.template c3t3_indices<C3T3>(), run.control, run.report, c3t3);
   run.finish();
 }
 

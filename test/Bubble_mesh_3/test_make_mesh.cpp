@@ -23,6 +23,8 @@
 #include <CGAL/IO/File_medit.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Polyhedral_mesh_domain_with_features_3.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_domain_with_polyline_features_3.h>
 
 #include <gtest/gtest.h>
 
@@ -38,6 +40,8 @@
 #include <set>
 #include <tuple>
 #include <iterator>
+#include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 #include <sstream>
@@ -282,11 +286,12 @@ TEST(MakeMesh, LShapeNonConvexGraded)
 /// corner in dimension 0, a vertex of a feature edge in dimension 1, of a
 /// boundary facet in dimension 2; the others inside (the
 /// vertices the improvement added or renumbered included).
-void expect_consistent_vertex_locations(const C3t3& c3t3)
+template <typename Complex>
+void expect_consistent_vertex_locations(const Complex& c3t3)
 {
-  typedef C3t3::Vertex_handle Vertex_handle;
-  std::map<Vertex_handle, std::set<C3t3::Surface_patch_index>> patches;
-  std::map<Vertex_handle, std::set<C3t3::Curve_index>> curves;
+  typedef typename Complex::Vertex_handle Vertex_handle;
+  std::map<Vertex_handle, std::set<typename Complex::Surface_patch_index>> patches;
+  std::map<Vertex_handle, std::set<typename Complex::Curve_index>> curves;
   for(auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f)
     for(int k = 1; k < 4; ++k) {
       const Vertex_handle v = f->first->vertex((f->second + k) % 4);
@@ -1153,4 +1158,222 @@ TEST(Remesh, FromAC3t3KeepsItsPatchesAndSubdomain)
   EXPECT_EQ(std::set<int>(out.tet_refs.begin(), out.tet_refs.end()),
             std::set<int>{int(c3t3.subdomain_index(c3t3.cells_in_complex_begin()))});
   EXPECT_GT(out.points.size(), 2 * c3t3.triangulation().number_of_vertices());
+}
+
+// ---------------------------------------------------------------------------
+// Implicit and labelled domains (Labeled_mesh_domain_3, with and without the
+// user's feature curves): the stages mesh a fine polyhedral copy of the
+// boundary, then the boundary vertices are moved onto the domain's surface.
+
+namespace {
+
+typedef CGAL::Labeled_mesh_domain_3<K> Implicit_base;
+typedef CGAL::Mesh_domain_with_polyline_features_3<Implicit_base> Implicit_with_curves;
+typedef K::Point_3 Point;
+
+template <typename D>
+struct Implicit_c3t3 {
+  typedef typename CGAL::Anisotropic_mesh_triangulation_3<D>::type Tr;
+  typedef CGAL::Mesh_complex_3_in_triangulation_3<Tr, int, int> type;
+};
+
+double unit_sphere(const Point& p) { return std::sqrt(p.x() * p.x() + p.y() * p.y() + p.z() * p.z()) - 1; }
+// the unit ball cut by the planes x = 0.5 and z = 0.5: three curves, two corners
+double cut_ball(const Point& p) { return std::max({unit_sphere(p), p.x() - 0.5, p.z() - 0.5}); }
+
+template <typename Complex, typename F>
+double largest_boundary_value(const Complex& c3t3, const F& f, int dimension)
+{
+  double worst = 0;
+  for(auto v = c3t3.triangulation().finite_vertices_begin(); v != c3t3.triangulation().finite_vertices_end(); ++v)
+    if(c3t3.in_dimension(v) == dimension)
+      worst = std::max(worst, std::abs(f(v->point().point())));
+  return worst;
+}
+
+template <typename Complex>
+double cell_volume(const Complex& c3t3, std::set<int>* subdomains = nullptr)
+{
+  double v = 0;
+  for(auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
+    v += CGAL::to_double(c3t3.triangulation().tetrahedron(c).volume());
+    if(subdomains)
+      subdomains->insert(int(c3t3.subdomain_index(c)));
+  }
+  return v;
+}
+
+double distance_to_polyline(const Point& p, const std::vector<Point>& line)
+{
+  double best = std::numeric_limits<double>::max();
+  for(std::size_t i = 0; i + 1 < line.size(); ++i)
+    best = std::min(best, std::sqrt(CGAL::to_double(CGAL::squared_distance(p, K::Segment_3(line[i], line[i + 1])))));
+  return best;
+}
+
+} // namespace
+
+TEST(ImplicitDomain, SphereIsMeshedOnItsSurface)
+{
+  const Implicit_base domain = Implicit_base::create_implicit_mesh_domain(
+      unit_sphere, K::Sphere_3(CGAL::ORIGIN, 4.0), CGAL::parameters::relative_error_bound = 1e-9);
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.2));
+  BM::Meshing_report rep;
+  typedef Implicit_c3t3<Implicit_base>::type Complex;
+  const Complex c3t3 = CGAL::make_anisotropic_mesh_3<Complex>(domain, field, BM::parameters::meshing_report(&rep));
+  EXPECT_TRUE(c3t3.triangulation().is_valid());
+  EXPECT_EQ(c3t3.number_of_cells_in_complex(), rep.final_tets);
+  EXPECT_EQ(c3t3.number_of_edges_in_complex(), 0u);
+  expect_consistent_vertex_locations(c3t3);
+  // every boundary vertex on the sphere, none left on the polyhedral copy
+  EXPECT_LT(largest_boundary_value(c3t3, unit_sphere, 2), 1e-9);
+  EXPECT_GT(rep.implicit_surface_triangles, 1000u);
+  EXPECT_EQ(rep.unsnapped_boundary_vertices, 0u);
+  EXPECT_EQ(rep.snapped_boundary_vertices, rep.nodes[2] + rep.added_boundary_nodes + rep.improvement.boundary_edge_splits);
+  std::set<int> subdomains;
+  // inscribed: a little less than the ball (chords of about 0.2 on a unit sphere)
+  const double ball = 4 * CGAL_PI / 3;
+  EXPECT_NEAR(cell_volume(c3t3, &subdomains) / ball, 0.985, 0.015);
+  EXPECT_EQ(subdomains, std::set<int>{1});
+
+  // the same as arrays, with the validity checker
+  const BM::Indexed_tet_mesh_3 m = BM::make_indexed_anisotropic_mesh_3(domain, field);
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  EXPECT_TRUE(BM::check_validity(m, opt).is_valid());
+  const auto q = BM::compute_quality_report(m, field);
+  std::cout << "implicit sphere: " << m.points.size() << " vertices, worst " << q.min_dihedral.worst << " deg, "
+            << rep.implicit_surface_triangles << " triangles in the copy of the surface, longest move "
+            << rep.largest_snap << "\n";
+  EXPECT_GT(q.min_dihedral.worst, 15.0);
+}
+
+TEST(ImplicitDomain, UserCurvesAndCornersAreKept)
+{
+  Implicit_with_curves domain(Implicit_base::create_implicit_mesh_domain(
+      cut_ball, K::Sphere_3(CGAL::ORIGIN, 4.0), CGAL::parameters::relative_error_bound = 1e-9));
+  const double r = std::sqrt(0.75), s = std::sqrt(0.5);
+  const Point c1(0.5, s, 0.5), c2(0.5, -s, 0.5);
+  std::vector<std::vector<Point>> lines(3);
+  const double t0 = std::acos(0.5 / r), p0 = std::atan2(0.5, s), p1 = std::atan2(0.5, -s);
+  for(int i = 0; i <= 400; ++i) {
+    const double t = t0 + (2 * CGAL_PI - 2 * t0) * i / 400; // in z = 0.5, through x < 0.5
+    lines[0].push_back(Point(r * std::cos(t), r * std::sin(t), 0.5));
+    const double p = p1 + (2 * CGAL_PI - (p1 - p0)) * i / 400; // in x = 0.5, through z < 0.5
+    lines[1].push_back(Point(0.5, r * std::cos(p), r * std::sin(p)));
+  }
+  lines[0].front() = c1;
+  lines[0].back() = c2;
+  lines[1].front() = c2;
+  lines[1].back() = c1;
+  lines[2] = {c2, c1};
+  std::vector<int> ids;
+  domain.add_features(lines.begin(), lines.end(), std::back_inserter(ids));
+  ASSERT_EQ(ids.size(), 3u);
+
+  // anisotropic: 1:2, longer along the straight edge
+  CGAL::Constant_metric_field_3<K> field(
+      Metric::from_directions_and_sizes(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.12, 0.24, 0.12)));
+  BM::Meshing_report rep;
+  typedef Implicit_c3t3<Implicit_with_curves>::type Complex;
+  const Complex c3t3 = CGAL::make_anisotropic_mesh_3<Complex>(domain, field, BM::parameters::meshing_report(&rep));
+  EXPECT_TRUE(c3t3.triangulation().is_valid());
+  expect_consistent_vertex_locations(c3t3);
+  // the two corners, at the user's points, with the domain's corner indices
+  std::set<Point> corners;
+  for(auto v = c3t3.vertices_in_complex_begin(); v != c3t3.vertices_in_complex_end(); ++v)
+    corners.insert(v->point().point());
+  EXPECT_EQ(corners, (std::set<Point>{c1, c2}));
+  // every curve of the user carries feature edges, labelled with its index,
+  // whose vertices lie on it
+  std::map<int, std::size_t> edges_on;
+  double off_curve = 0;
+  for(auto e = c3t3.edges_in_complex_begin(); e != c3t3.edges_in_complex_end(); ++e) {
+    const int curve = c3t3.curve_index(*e);
+    const auto at = std::find(ids.begin(), ids.end(), curve);
+    ASSERT_NE(at, ids.end()) << "curve index " << curve;
+    ++edges_on[curve];
+    for(int k : {e->second, e->third})
+      off_curve = std::max(off_curve, distance_to_polyline(e->first->vertex(k)->point().point(),
+                                                           lines[std::size_t(at - ids.begin())]));
+  }
+  EXPECT_EQ(edges_on.size(), 3u);
+  EXPECT_LT(off_curve, 1e-9);
+  EXPECT_LT(largest_boundary_value(c3t3, cut_ball, 2), 1e-9);
+  EXPECT_EQ(rep.unsnapped_boundary_vertices, 0u);
+  const BM::Indexed_tet_mesh_3 m = BM::make_indexed_anisotropic_mesh_3(domain, field);
+  const auto q = BM::compute_quality_report(m, field);
+  std::cout << "cut ball: " << m.points.size() << " vertices, worst " << q.min_dihedral.worst << " deg, edges in range "
+            << q.edge_length.in_range_fraction << "\n";
+  EXPECT_GT(q.min_dihedral.worst, 10.0);
+}
+
+TEST(ImplicitDomain, LabelledDomainKeepsItsSubdomainIndex)
+{
+  // a labelling function (as a segmented image gives): 3 inside an ellipsoid
+  const Implicit_base domain(
+      [](const Point& p) { return p.x() * p.x() / 1.44 + p.y() * p.y() + p.z() * p.z() / 0.49 < 1 ? 3 : 0; },
+      CGAL::Bbox_3(-1.5, -1.5, -1.5, 1.5, 1.5, 1.5), 1e-9);
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.2));
+  typedef Implicit_c3t3<Implicit_base>::type Complex;
+  const Complex c3t3 = CGAL::make_anisotropic_mesh_3<Complex>(domain, field);
+  std::set<int> subdomains;
+  const double volume = 4 * CGAL_PI / 3 * 1.2 * 0.7;
+  EXPECT_NEAR(cell_volume(c3t3, &subdomains) / volume, 0.98, 0.02);
+  EXPECT_EQ(subdomains, std::set<int>{3});
+  for(auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f) {
+    const auto patch = c3t3.surface_patch_index(*f);
+    EXPECT_EQ(std::min(patch.first, patch.second), 0);
+    EXPECT_EQ(std::max(patch.first, patch.second), 3);
+  }
+}
+
+TEST(ImplicitDomain, EveryComponentIsMeshed)
+{
+  // one label, two balls: the small one off the centre, where Mesh_3's
+  // initial rays may not find it (the grid probe does)
+  const Implicit_base domain(
+      [](const Point& p) {
+        const double r = std::sqrt(p.x() * p.x() + p.y() * p.y() + p.z() * p.z());
+        const double s = std::sqrt((p.x() - 0.8) * (p.x() - 0.8) + p.y() * p.y() + p.z() * p.z());
+        return r < 0.5 || s < 0.25 ? 1 : 0;
+      },
+      CGAL::Bbox_3(-1.2, -1.2, -1.2, 1.2, 1.2, 1.2), 1e-9);
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.1));
+  BM::Meshing_report rep;
+  const BM::Indexed_tet_mesh_3 m =
+      BM::make_indexed_anisotropic_mesh_3(domain, field, BM::parameters::meshing_report(&rep));
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  const BM::Validity_report vr = BM::check_validity(m, opt);
+  EXPECT_TRUE(vr.is_valid());
+  // without the small ball: 0.89 of the volume
+  EXPECT_NEAR(vr.tet_volume / (4 * CGAL_PI / 3 * (0.125 + 0.015625)), 0.98, 0.015);
+  EXPECT_EQ(rep.unsnapped_boundary_vertices, 0u);
+}
+
+TEST(ImplicitDomain, RefusalsNameTheProblem)
+{
+  CGAL::Constant_metric_field_3<K> field(Metric::isotropic(0.2));
+  typedef Implicit_c3t3<Implicit_base>::type Complex;
+  auto message = [&](const Implicit_base& domain) -> std::string {
+    try {
+      Complex c3t3;
+      CGAL::make_anisotropic_mesh_3(c3t3, domain, field);
+    } catch(const BM::Invalid_input& e) {
+      return e.what();
+    }
+    return "no exception";
+  };
+  // two materials: a ball in a ball
+  const Implicit_base two(
+      [](const Point& p) {
+        const double r = std::sqrt(p.x() * p.x() + p.y() * p.y() + p.z() * p.z());
+        return r < 0.5 ? 2 : r < 1 ? 1 : 0;
+      },
+      CGAL::Bbox_3(-1.2, -1.2, -1.2, 1.2, 1.2, 1.2), 1e-9);
+  EXPECT_NE(message(two).find("2 subdomains"), std::string::npos) << message(two);
+  // nothing inside the bounding box
+  const Implicit_base empty([](const Point&) { return 0; }, CGAL::Bbox_3(-1, -1, -1, 1, 1, 1), 1e-9);
+  EXPECT_NE(message(empty).find("no point of the implicit domain"), std::string::npos) << message(empty);
 }

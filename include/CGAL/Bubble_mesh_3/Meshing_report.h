@@ -71,6 +71,15 @@ struct Meshing_report {
   /// smallest size they ask (0: none), and the seconds their search took
   std::size_t small_feature_samples = 0;
   double smallest_feature_size = 0, feature_size_seconds = 0;
+  /// an implicit or labelled domain: the triangles of the polyhedral copy of
+  /// its boundary the stages meshed (CGAL Mesh_3's surface mesh), its chord
+  /// error and seconds; the boundary vertices then moved onto the domain's
+  /// surface and curves, those left where they were (a move would have turned
+  /// a tet over; they stay within about the chord error), the longest move
+  std::size_t implicit_surface_triangles = 0;
+  double implicit_surface_chord_error = 0, implicit_surface_seconds = 0;
+  std::size_t snapped_boundary_vertices = 0, unsnapped_boundary_vertices = 0;
+  double largest_snap = 0;
   double c3t3_seconds = 0; ///< padding and conversion (make_anisotropic_mesh_3 only)
   std::size_t padding_tets = 0;
   double total_seconds = 0;
@@ -143,7 +152,13 @@ inline std::string to_json(const Meshing_report& r)
     << ",\n    \"volume_error\": " << num(r.volume_error) << ",\n    \"surface_distance_bound\": "
     << num(r.surface_distance_bound) << ",\n    \"small_feature_samples\": " << r.small_feature_samples
     << ",\n    \"smallest_feature_size\": " << num(r.smallest_feature_size)
-    << ",\n    \"feature_size_seconds\": " << num(r.feature_size_seconds) << ",\n    \"total_seconds\": "
+    << ",\n    \"feature_size_seconds\": " << num(r.feature_size_seconds)
+    << ",\n    \"implicit_surface_triangles\": " << r.implicit_surface_triangles
+    << ",\n    \"implicit_surface_chord_error\": " << num(r.implicit_surface_chord_error)
+    << ",\n    \"implicit_surface_seconds\": " << num(r.implicit_surface_seconds)
+    << ",\n    \"snapped_boundary_vertices\": " << r.snapped_boundary_vertices
+    << ",\n    \"unsnapped_boundary_vertices\": " << r.unsnapped_boundary_vertices
+    << ",\n    \"largest_snap\": " << num(r.largest_snap) << ",\n    \"total_seconds\": "
     << num(r.total_seconds) << "\n  }";
   return o.str();
 }
@@ -172,6 +187,17 @@ inline void print_meshing_summary(std::ostream& out, const Meshing_report& r)
                " still creeping)";
     }
     o << (capped ? ", iteration cap reached" : how.empty() ? ", converged" : ", settled: " + how) << ")\n";
+  }
+  if(r.implicit_surface_triangles > 0) {
+    std::ostringstream small; // lengths far below the fixed two decimals
+    small.precision(3);
+    small << " (chord error " << r.implicit_surface_chord_error << ", ";
+    std::ostringstream move;
+    move.precision(3);
+    move << " (longest move " << r.largest_snap << "), ";
+    o << "surface:  " << r.implicit_surface_triangles << " triangles of the implicit domain's boundary" << small.str()
+      << r.implicit_surface_seconds << " s); " << r.snapped_boundary_vertices << " boundary vertices moved onto it"
+      << move.str() << r.unsnapped_boundary_vertices << " left\n";
   }
   o << "boundary: " << r.boundary_triangles << " triangles, " << r.boundary_seconds << " s";
   if(r.added_boundary_nodes > 0)

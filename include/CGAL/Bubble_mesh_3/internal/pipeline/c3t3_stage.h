@@ -28,8 +28,8 @@ namespace internal {
 /// Stage 6: fills `c3t3` from `dm`. The mesh is the pipeline's, not the
 /// user's: whatever the padding or the conversion refuses is a
 /// `Meshing_failure`.
-template <typename MeshDomain, typename C3T3>
-void c3t3_stage(const Domain_mesh& dm, const MeshDomain& domain, const Run_control& control, Meshing_report& rep,
+template <typename Indices, typename C3T3>
+void c3t3_stage(const Domain_mesh& dm, const Indices& indices, const Run_control& control, Meshing_report& rep,
                 C3T3& c3t3)
 {
   control.advance(0.97);
@@ -47,12 +47,12 @@ void c3t3_stage(const Domain_mesh& dm, const MeshDomain& domain, const Run_contr
       const Padded_tet_mesh_3 padded = pad_to_box(dm.mesh, padding);
       std::vector<C3t3_vertex_location> locations = dm.locations;
       locations.resize(padded.mesh.points.size(), C3t3_vertex_location{3, 0});
-      tet_mesh_to_c3t3(padded.mesh, locations, domain, c3t3);
+      indexed_mesh_to_c3t3(padded.mesh, locations, indices, c3t3);
       padding_tets = padded.mesh.tets.size() - dm.mesh.tets.size();
     } else {
       // without TetGen only a mesh of a convex domain fills its triangulation
       try {
-        tet_mesh_to_c3t3(dm.mesh, dm.locations, domain, c3t3);
+        indexed_mesh_to_c3t3(dm.mesh, dm.locations, indices, c3t3);
       } catch(const Invalid_input& e) {
         throw Meshing_failure(std::string("the domain is not convex (or has several components), and this build "
                                           "has no TetGen to pad it out to a box for the C3T3 (") +
