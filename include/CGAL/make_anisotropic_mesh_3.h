@@ -123,8 +123,8 @@ Indexed_tet_mesh_3 make_indexed_anisotropic_mesh_3(const MeshDomain& domain, con
 /// \tparam MeshDomain `Polyhedral_mesh_domain_with_features_3` (after `detect_features()`), or a model of
 ///   `MeshDomain_3` of one subdomain such as `Labeled_mesh_domain_3` (an implicit function, a labelling function,
 ///   a segmented image), optionally with `Mesh_domain_with_polyline_features_3`: its boundary is meshed by CGAL
-///   Mesh_3 into a fine polyhedral copy (chord error 1e-4 of the bounding box diagonal, or a tenth of the metric's
-///   smallest size on the surface), the stages mesh that copy, and the boundary vertices are then moved onto the
+///   Mesh_3 into a fine polyhedral copy (chord error a fiftieth of the metric's smallest size on the surface, between
+///   2e-5 and 1e-4 of the bounding box diagonal), the stages mesh that copy, and the boundary vertices are then moved onto the
 ///   domain's surface and curves (`Meshing_report::snapped_boundary_vertices`); the complex gets the domain's
 ///   indices
 /// \tparam MetricField a model of `MetricField_3`

@@ -1228,6 +1228,8 @@ TEST(ImplicitDomain, SphereIsMeshedOnItsSurface)
   // every boundary vertex on the sphere, none left on the polyhedral copy
   EXPECT_LT(largest_boundary_value(c3t3, unit_sphere, 2), 1e-9);
   EXPECT_GT(rep.implicit_surface_triangles, 1000u);
+  // 1e-4 of the bounding box's diagonal (below a fiftieth of the size)
+  EXPECT_NEAR(rep.implicit_surface_chord_error, 1e-4 * 4 * std::sqrt(3.0), 1e-12);
   EXPECT_EQ(rep.unsnapped_boundary_vertices, 0u);
   EXPECT_EQ(rep.snapped_boundary_vertices, rep.nodes[2] + rep.added_boundary_nodes + rep.improvement.boundary_edge_splits);
   std::set<int> subdomains;
