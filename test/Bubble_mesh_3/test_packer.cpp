@@ -54,6 +54,53 @@ Polyhedron make_box(double a, double b, double c)
   return p;
 }
 
+// The unit cube with each face an n x n grid of triangles at coordinates
+// (i/n)^grade: many small, irregular triangles per face, as the boundary of a
+// tet mesh gives (projections onto them round differently from the box's).
+Polyhedron make_grid_box(int n, double grade)
+{
+  std::map<std::array<int, 3>, int> id;
+  std::vector<std::array<int, 3>> cells;
+  std::vector<std::array<int, 3>> faces;
+  auto vertex = [&](std::array<int, 3> c) {
+    auto it = id.emplace(c, int(cells.size()));
+    if(it.second)
+      cells.push_back(c);
+    return it.first->second;
+  };
+  for(int d = 0; d < 3; ++d)
+    for(int side : {0, n}) {
+      const int u = (d + 1) % 3, v = (d + 2) % 3;
+      for(int a = 0; a < n; ++a)
+        for(int b = 0; b < n; ++b) {
+          std::array<int, 4> q;
+          const int corner[4][2] = {{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}};
+          for(int k = 0; k < 4; ++k) {
+            std::array<int, 3> c;
+            c[d] = side;
+            c[u] = corner[k][0];
+            c[v] = corner[k][1];
+            q[k] = vertex(c);
+          }
+          if(side == 0)
+            std::swap(q[1], q[3]); // outward: -e_d
+          faces.push_back({{q[0], q[1], q[2]}});
+          faces.push_back({{q[0], q[2], q[3]}});
+        }
+    }
+  std::stringstream off;
+  off.precision(17);
+  off << "OFF\n" << cells.size() << " " << faces.size() << " 0\n";
+  for(const auto& c : cells)
+    off << std::pow(double(c[0]) / n, grade) << " " << std::pow(double(c[1]) / n, grade) << " "
+        << std::pow(double(c[2]) / n, grade) << "\n";
+  for(const auto& f : faces)
+    off << "3 " << f[0] << " " << f[1] << " " << f[2] << "\n";
+  Polyhedron p;
+  off >> p;
+  return p;
+}
+
 // Icosphere of radius 1 (subdivided `levels` times, vertices on the sphere).
 Polyhedron make_sphere(int levels)
 {
@@ -245,9 +292,10 @@ double box_estimate(const Metric& m, const Vec3& size)
   return std::sqrt(2.0) * sd * size.prod() + area / std::sqrt(3.0);
 }
 
-void check_box_3d(const Metric& m, const Vec3& size, int samples, Constant_packer::Parameters prm = {})
+void check_box_3d(const Metric& m, const Vec3& size, int samples, Constant_packer::Parameters prm = {},
+                  const Polyhedron* surface = nullptr)
 {
-  Polyhedron p = make_box(size[0], size[1], size[2]);
+  Polyhedron p = surface ? *surface : make_box(size[0], size[1], size[2]);
   Domain domain(p);
   domain.detect_features(60);
   Constant_field field(m);
@@ -291,6 +339,19 @@ TEST(BubblePacker, CubeStretched1to4)
   Eigen::Matrix3d r;
   r << 1, -1, 0, 1, 1, 0, 0, 0, std::sqrt(2.0);
   check_box_3d(Metric::from_directions_and_sizes(r, Vec3(0.2, 0.05, 0.05)), Vec3(1, 1, 1), 48);
+}
+
+// A metric oblique to every face (sizes 0.2, 0.07, 0.1 along axes rotated
+// 40 degrees about (1, 2, 3)): the steps projected in the metric leave the
+// face plane by rounding, and the projection back must put patch nodes
+// exactly on it (check_box_3d compares with 0 exactly). Residuals such as
+// 1e-120 made coplanar boundary nodes non-coplanar: the front then built
+// faces at a zero angle to the boundary and TetGen failed on the cavities.
+TEST(BubblePacker, CubeObliqueMetricNodesStayExactlyOnFaces)
+{
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(40.0 * M_PI / 180, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Polyhedron grid_box = make_grid_box(9, 1.3);
+  check_box_3d(Metric::from_directions_and_sizes(r, Vec3(0.2, 0.07, 0.1)), Vec3(1, 1, 1), 40, {}, &grid_box);
 }
 
 TEST(BubblePacker, CurveConstantMetricEqualSpacing)

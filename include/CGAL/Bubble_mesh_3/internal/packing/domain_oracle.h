@@ -223,7 +223,16 @@ public:
     const Vec3 a = to_vec<K>(t.vertex(0)), b = to_vec<K>(t.vertex(1)), c = to_vec<K>(t.vertex(2));
     Vec3 n = (b - a).cross(c - a);
     const double l = n.norm();
-    return std::make_pair(to_vec<K>(pp.first), l > 0 ? Vec3(n / l) : Vec3(0, 0, 1));
+    // A coordinate the triangle's corners share (a face of a box, a symmetry
+    // plane) is kept exactly: the rounded projection leaves residuals like
+    // 1e-120 there, which make coplanar nodes slightly non-coplanar, so the
+    // front may build faces at a zero angle to the boundary (unfillable
+    // wedges) and TetGen's inexact checks see intersecting facets.
+    Vec3 x = to_vec<K>(pp.first);
+    for(int d = 0; d < 3; ++d)
+      if(a[d] == b[d] && b[d] == c[d])
+        x[d] = a[d];
+    return std::make_pair(x, l > 0 ? Vec3(n / l) : Vec3(0, 0, 1));
   }
 
   // ---- volume
