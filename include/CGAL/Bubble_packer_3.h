@@ -197,7 +197,7 @@ public:
       P::Patch_seeder<Oracle, Refresh> surfaces(*oracle_, refresh_, lo_, offset_, limit - total, none, true);
       total += counted_from(total, [&] { return surfaces.run(); });
       check_estimate(total);
-      P::Volume_estimator<Oracle, Refresh> volume(*oracle_, refresh_, limit - total);
+      P::Volume_estimator<Oracle, Refresh> volume(*oracle_, refresh_, metric_samples(), limit - total);
       volume_estimate_ = volume.run(lo_, hi_);
       total += volume_estimate_;
       check_estimate(total);
@@ -292,8 +292,8 @@ public:
     const auto t0 = std::chrono::steady_clock::now();
     Stage_statistics& s = stats_.stages[3];
     const std::size_t first = bubbles_.size();
-    Bubble_mesh_3::internal::packing::Volume_seeder<Oracle, Refresh> seeder(*oracle_, refresh_, lo_, offset_,
-                                                                            remaining_limit(), bubbles_);
+    Bubble_mesh_3::internal::packing::Volume_seeder<Oracle, Refresh> seeder(*oracle_, refresh_, metric_samples(), lo_,
+                                                                            offset_, remaining_limit(), bubbles_);
     counted_from(double(first), [&] { return seeder.run(lo_, hi_); });
     s.expected_bubbles = volume_estimate_;
     s.seeded = bubbles_.size() - first;
@@ -357,6 +357,18 @@ private:
   typedef Bubble_mesh_3::internal::packing::Bubble_record Record;
   typedef Bubble_mesh_3::internal::packing::Domain_oracle<Mesh_domain> Oracle;
   typedef Bubble_mesh_3::internal::packing::Metric_refresh<Metric_field> Refresh;
+
+  /// where the field was given (see metric_samples.h), computed once
+  const Bubble_mesh_3::internal::packing::Metric_samples& metric_samples()
+  {
+    namespace P = Bubble_mesh_3::internal::packing;
+    if(!samples_) {
+      std::vector<Vec3> points;
+      P::append_metric_sample_points(field_, points);
+      samples_ = std::make_unique<P::Metric_samples>(std::move(points), refresh_);
+    }
+    return *samples_;
+  }
 
   static double seconds_since(std::chrono::steady_clock::time_point t0)
   {
@@ -450,6 +462,7 @@ private:
   Refresh refresh_;
   Bubble_mesh_3::internal::packing::Parallel_executor exec_;
   std::unique_ptr<Oracle> oracle_;
+  std::unique_ptr<Bubble_mesh_3::internal::packing::Metric_samples> samples_;
   std::vector<Record> bubbles_;
   Statistics stats_;
   Vec3 lo_, hi_, offset_;

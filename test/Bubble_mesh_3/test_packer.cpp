@@ -10,6 +10,7 @@
 #include <CGAL/Bubble_packer_3.h>
 #include <CGAL/Constant_metric_field_3.h>
 #include <CGAL/Function_metric_field_3.h>
+#include <CGAL/Interpolated_metric_field_3.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_polyhedron_3.h>
@@ -22,6 +23,8 @@
 #include <random>
 
 #include <gtest/gtest.h>
+
+#include "jittered_box.h"
 
 #include <algorithm>
 #include <cmath>
@@ -748,6 +751,45 @@ TEST(BubblePacker, GradedStretched3DConverges)
   EXPECT_GE(median(fine_end), 0.75);
   // the estimate's boundary term is rough when the box is 2 to 20 bubbles wide
   EXPECT_NEAR(double(pts.size()) / estimate, 0.9, 0.12);
+}
+
+// A fine slab (sizes 0.01 across, 0.15 along; x in [1/3, 5/12]) given on a
+// background mesh, thinner than the size 0.15 around it and lying between the
+// corners and the centre of the volume octree's cells: the seeder must test
+// the metric at the background vertices too (metric_samples.h). Seeding from
+// the corners alone left the slab to population control, which fills it from
+// its edges only (345 nodes in the slab instead of 369 here; on a 1:1000
+// Hessian layer, 859 interior nodes instead of 6,925).
+TEST(BubblePacker, ThinSlabOnBackgroundMeshIsSeeded)
+{
+  Polyhedron p = make_box(1, 1, 1);
+  Domain domain(p);
+  domain.detect_features(60);
+  const CGAL::Bubble_mesh_3::Indexed_tet_mesh_3 grid = jittered_box(24, 0, 1, 0);
+  std::vector<Metric> metrics;
+  for(const auto& x : grid.points)
+    metrics.push_back(std::abs(x[0] - 0.375) < 0.05
+                          ? Metric::from_directions_and_sizes(Eigen::Matrix3d::Identity(), Vec3(0.01, 0.15, 0.15))
+                          : Metric::isotropic(0.15));
+  const CGAL::Interpolated_metric_field_3<K> field(grid, metrics, "slab");
+  typedef CGAL::Bubble_packer_3<Domain, CGAL::Interpolated_metric_field_3<K>> Packer;
+  Packer packer(domain, field);
+  const double estimate = packer.estimated_number_of_bubbles();
+  packer.run();
+  print_statistics(packer);
+  std::size_t in_slab = 0;
+  for(const auto& n : packer.nodes())
+    if(n.dimension == 3 && n.point.x() > 0.34 && n.point.x() < 0.41)
+      ++in_slab;
+  const double expected = std::sqrt(2.0) * 0.07 / (0.01 * 0.15 * 0.15); // 440
+  std::cout << "    interior nodes in the slab " << in_slab << " (expected about " << expected << "), all "
+            << packer.nodes().size() << " (estimate " << estimate << ")\n";
+  EXPECT_GE(double(in_slab), 0.8 * expected);
+  EXPECT_LE(double(in_slab), 1.2 * expected);
+  const auto& s3 = packer.statistics().stages[3];
+  // the seeder's own share (250 of 1,152 expected from the corners alone)
+  EXPECT_GE(double(s3.seeded), 0.5 * s3.expected_bubbles);
+  EXPECT_TRUE(s3.converged || s3.settled) << "the volume stage stopped at its cap";
 }
 
 TEST(BubblePacker, BoundaryLayerConverges)

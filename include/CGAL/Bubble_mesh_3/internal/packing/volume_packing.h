@@ -22,6 +22,7 @@
 
 #include <CGAL/Bubble_mesh_3/exceptions.h>
 #include <CGAL/Bubble_mesh_3/internal/packing/bubble.h>
+#include <CGAL/Bubble_mesh_3/internal/packing/metric_samples.h>
 
 #include <algorithm>
 #include <array>
@@ -122,16 +123,18 @@ private:
 template <typename Oracle, typename Refresh>
 class Volume_estimator {
 public:
-  Volume_estimator(const Oracle& o, const Refresh& refresh, double stop) : o_(o), refresh_(refresh), stop_(stop) {}
+  Volume_estimator(const Oracle& o, const Refresh& refresh, const Metric_samples& samples, double stop)
+      : o_(o), refresh_(refresh), samples_(samples), stop_(stop)
+  {}
 
   double run(const Vec3& lo, const Vec3& hi)
   {
-    cell(lo, hi, 0);
+    cell(lo, hi, 0, samples_.all());
     return total_;
   }
 
 private:
-  void cell(const Vec3& lo, const Vec3& hi, int depth)
+  void cell(const Vec3& lo, const Vec3& hi, int depth, const std::vector<int>& candidates)
   {
     if(total_ > stop_)
       return;
@@ -148,6 +151,7 @@ private:
     // split where the metric varies unless the cell holds fewer than 4
     // bubbles at its finest corner too (see Volume_seeder::cell)
     bool split = false;
+    std::vector<int> inside;
     if(depth < 16) {
       double finest = d0;
       bool varies = false;
@@ -157,12 +161,13 @@ private:
         varies = varies || dv > 1.25 * d0 || d0 > 1.25 * dv;
         finest = std::max(finest, dv);
       }
+      samples_.test_cell(candidates, lo, hi, d0, 1.25, finest, varies, inside);
       split = varies && std::sqrt(2.0) * finest * (hi - lo).prod() > 4;
     }
     if(side == 0 && depth < 4 && expected > 8)
       split = true;
     if(split) {
-      for_each_octant(lo, c, hi, [&](const Vec3& a, const Vec3& b) { cell(a, b, depth + 1); });
+      for_each_octant(lo, c, hi, [&](const Vec3& a, const Vec3& b) { cell(a, b, depth + 1, inside); });
       return;
     }
     double fraction = 1;
@@ -179,6 +184,7 @@ private:
 
   const Oracle& o_;
   const Refresh& refresh_;
+  const Metric_samples& samples_;
   double stop_;
   double total_ = 0;
 };
@@ -186,20 +192,21 @@ private:
 template <typename Oracle, typename Refresh>
 class Volume_seeder {
 public:
-  Volume_seeder(const Oracle& o, const Refresh& refresh, const Vec3& anchor, const Vec3& offset, double limit,
-                std::vector<Bubble_record>& out)
-      : o_(o), refresh_(refresh), anchor_(anchor), offset_(offset), limit_(limit), out_(out), first_(out.size())
+  Volume_seeder(const Oracle& o, const Refresh& refresh, const Metric_samples& samples, const Vec3& anchor,
+                const Vec3& offset, double limit, std::vector<Bubble_record>& out)
+      : o_(o), refresh_(refresh), samples_(samples), anchor_(anchor), offset_(offset), limit_(limit), out_(out),
+        first_(out.size())
   {}
 
   /// seeds the bounding box [lo, hi]; returns the expected count sqrt(2) * int sqrt(det M) over it
   double run(const Vec3& lo, const Vec3& hi)
   {
-    cell(lo, hi, 0);
+    cell(lo, hi, 0, samples_.all());
     return expected_;
   }
 
 private:
-  void cell(const Vec3& lo, const Vec3& hi, int depth)
+  void cell(const Vec3& lo, const Vec3& hi, int depth, const std::vector<int>& candidates)
   {
     const Vec3 c = 0.5 * (lo + hi);
     const Vec3 size = hi - lo;
@@ -207,6 +214,7 @@ private:
     const double expected = std::sqrt(2.0) * m.sqrt_determinant() * size.prod();
     if(depth < 16) {
       bool split = expected > 512;
+      std::vector<int> inside;
       if(!split) {
         // Split where the metric varies, unless the cell holds fewer than 4
         // bubbles at its finest corner too. (Testing the count at the centre
@@ -221,10 +229,12 @@ private:
           varies = varies || dv > 1.25 * d0 || d0 > 1.25 * dv;
           finest = std::max(finest, dv);
         }
+        samples_.test_cell(candidates, lo, hi, d0, 1.25, finest, varies, inside);
         split = varies && std::sqrt(2.0) * finest * size.prod() > 4;
-      }
+      } else
+        samples_.select(candidates, lo, hi, inside);
       if(split) {
-        for_each_octant(lo, c, hi, [&](const Vec3& a, const Vec3& b) { cell(a, b, depth + 1); });
+        for_each_octant(lo, c, hi, [&](const Vec3& a, const Vec3& b) { cell(a, b, depth + 1, inside); });
         return;
       }
     }
@@ -309,6 +319,7 @@ private:
 
   const Oracle& o_;
   const Refresh& refresh_;
+  const Metric_samples& samples_;
   Vec3 anchor_, offset_;
   double limit_;
   std::vector<Bubble_record>& out_;
