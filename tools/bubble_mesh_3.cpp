@@ -131,7 +131,7 @@ const char* const usage_text =
     "                [--norm P] [--hmin A] [--hmax B] [--max-ratio R] [--gradation BETA]\n"
     "                [--feature-angle DEG] [--interpolate-solution OUT.sol] [--metric-out M.sol]\n"
     "                [--report R.json] [--vtu OUT.vtu] [--seed S] [--threads N] [--max-nodes N]\n"
-    "                [--time-limit SECONDS] [--no-improve] [--quiet]\n"
+    "                [--surface-distance D|auto|off] [--time-limit SECONDS] [--no-improve] [--quiet]\n"
     "      A new mesh of the domain of IN.mesh (MEDIT) for the interpolation error of\n"
     "      the scalar solution U.sol (MEDIT, SolAtVertices type 1, one value per\n"
     "      vertex of IN.mesh): Hessian recovered by a quadratic fit on vertex rings,\n"
@@ -142,7 +142,9 @@ const char* const usage_text =
     "      length l (anisotropic, directions kept; default 1.5, 'off': none; the\n"
     "      target N counts the vertices it adds). The boundary of IN.mesh is the\n"
     "      surface meshed (edges between triangle references are feature curves);\n"
-    "      boundary and subdomain references are carried over. --interpolate-solution\n"
+    "      boundary and subdomain references are carried over; it stays within D of\n"
+    "      the input's boundary (default auto: the diagonal / 200; as for meshing).\n"
+    "      --interpolate-solution\n"
     "      writes U interpolated (P1) at the new vertices; --metric-out the metric at\n"
     "      the vertices of IN.mesh.\n"
     "  bubble_mesh_3 --help | --version\n"
@@ -484,6 +486,22 @@ int run_convert(int argc, char** argv)
   return 0;
 }
 
+// --surface-distance D|auto|off: D, -1 (auto: a fraction of the diagonal) or 0
+double parse_surface_distance(const Options& o, double fallback)
+{
+  if(!o.has("--surface-distance"))
+    return fallback;
+  const std::string v = o.get("--surface-distance");
+  if(v == "off")
+    return 0.0;
+  if(v == "auto")
+    return -1.0;
+  const double d = parse_number(v, "--surface-distance");
+  if(!(d > 0))
+    throw Usage_error("--surface-distance must be a positive length, 'auto' or 'off'");
+  return d;
+}
+
 int parse_count(const std::string& text, const std::string& what)
 {
   const double v = parse_number(text, what);
@@ -592,13 +610,7 @@ int run_mesh(int argc, char** argv)
       throw Usage_error("--section-plane: '" + t + "' is not of the form x=VALUE, y=VALUE or z=VALUE");
     section_plane = BIO::Section_plane{t[0] - 'x', parse_number(t.substr(2), "--section-plane")};
   }
-  double surface_distance = 0; // off; "auto": a fraction of the diagonal
-  if(o.has("--surface-distance")) {
-    const std::string v = o.get("--surface-distance");
-    surface_distance = v == "off" ? 0.0 : v == "auto" ? -1.0 : parse_number(v, "--surface-distance");
-    if(v != "off" && v != "auto" && !(surface_distance > 0))
-      throw Usage_error("--surface-distance must be a positive length, 'auto' or 'off'");
-  }
+  const double surface_distance = parse_surface_distance(o, 0.0); // default off
   const std::function<void(const std::string&)> progress = progress_printer(quiet);
 
   const std::string surface_path = o.positional[0];
@@ -735,7 +747,7 @@ int run_adapt(int argc, char** argv)
                                   {"-o", "--solution", "--error", "--target-vertices", "--norm", "--hmin", "--hmax",
                                    "--max-ratio", "--gradation", "--feature-angle", "--interpolate-solution",
                                    "--metric-out", "--report", "--vtu", "--seed", "--threads", "--max-nodes",
-                                   "--time-limit"},
+                                   "--time-limit", "--surface-distance"},
                                   {"--quiet", "--no-improve"});
   if(o.positional.size() != 1)
     throw Usage_error("adapt needs exactly one IN.mesh argument (see bubble_mesh_3 --help)");
@@ -780,6 +792,7 @@ int run_adapt(int argc, char** argv)
     }
   const double diagonal = std::sqrt(CGAL::square(hi[0] - lo[0]) + CGAL::square(hi[1] - lo[1]) + CGAL::square(hi[2] - lo[2]));
   const double hmin = positive("--hmin", diagonal * 1e-4), hmax = positive("--hmax", diagonal / 10);
+  const double surface_distance = parse_surface_distance(o, -1.0); // default auto
   const double ratio = positive("--max-ratio", 1000);
   const double norm = positive("--norm", 2);
   const double angle = o.has("--feature-angle") ? parse_number(o.get("--feature-angle"), "--feature-angle") : 60.0;
@@ -809,7 +822,8 @@ int run_adapt(int argc, char** argv)
     mesh = BM::remesh_anisotropic_3(
         input, field,
         meshing_parameters(seed, threads, max_nodes, meshing, !o.has("--no-improve"), time_limit, progress)
-            .feature_angle(angle));
+            .feature_angle(angle)
+            .surface_distance(surface_distance));
     quality = BM::compute_quality_report(mesh, field);
     if(o.has("--metric-out")) {
       std::vector<Metric_3> metrics;

@@ -1250,6 +1250,54 @@ TEST(ImplicitDomain, SphereIsMeshedOnItsSurface)
   EXPECT_GT(q.min_dihedral.worst, 15.0);
 }
 
+// remesh_anisotropic_3 keeps the new boundary within the automatic distance of
+// the input's boundary by default: a metric coarser than the curvature would
+// otherwise chord a curved domain (each remeshing of a loop a little more).
+TEST(Remesh, CurvedBoundaryStaysWithinTheAutomaticDistance)
+{
+  if(sanitized_build)
+    GTEST_SKIP() << "three meshings are too slow under the sanitizers";
+  const Implicit_base domain = Implicit_base::create_implicit_mesh_domain(
+      unit_sphere, K::Sphere_3(CGAL::ORIGIN, 4.0), CGAL::parameters::relative_error_bound = 1e-9);
+  const BM::Indexed_tet_mesh_3 ball =
+      BM::make_indexed_anisotropic_mesh_3(domain, CGAL::Constant_metric_field_3<K>(Metric::isotropic(0.2)));
+  auto volume = [](const BM::Indexed_tet_mesh_3& m) {
+    double v = 0;
+    for(const auto& t : m.tets) {
+      auto p = [&](int k) {
+        const auto& c = m.points[std::size_t(t[std::size_t(k)])];
+        return K::Point_3(c[0], c[1], c[2]);
+      };
+      v += CGAL::volume(p(0), p(1), p(2), p(3));
+    }
+    return v;
+  };
+  const double input_volume = volume(ball);
+  const CGAL::Constant_metric_field_3<K> coarse(Metric::isotropic(0.7));
+  BM::Meshing_report rep;
+  const BM::Indexed_tet_mesh_3 bounded =
+      BM::remesh_anisotropic_3(ball, coarse, BM::parameters::random_seed(1u).meshing_report(&rep));
+  BM::Validity_options opt;
+  opt.require_outward_triangles = true;
+  EXPECT_TRUE(BM::check_validity(bounded, opt).is_valid());
+  BM::Meshing_report off_rep;
+  const BM::Indexed_tet_mesh_3 chorded = BM::remesh_anisotropic_3(
+      ball, coarse, BM::parameters::random_seed(1u).surface_distance(0.0).meshing_report(&off_rep));
+  EXPECT_TRUE(BM::check_validity(chorded, opt).is_valid());
+  const double error = std::abs(volume(bounded) / input_volume - 1);
+  const double chorded_error = std::abs(volume(chorded) / input_volume - 1);
+  std::cout << "bound " << rep.surface_distance_bound << ": " << bounded.points.size() << " vertices, boundary within "
+            << rep.surface_distance << ", volume error " << error << "; without: " << chorded.points.size()
+            << " vertices, within " << off_rep.surface_distance << ", volume error " << chorded_error << "\n";
+  // the automatic bound: the input's bounding box diagonal / 200
+  EXPECT_GT(rep.surface_distance_bound, 0.9 * 2 * std::sqrt(3.0) / 200);
+  EXPECT_LT(rep.surface_distance_bound, 1.01 * 2 * std::sqrt(3.0) / 200);
+  EXPECT_LE(rep.surface_distance, 1.1 * rep.surface_distance_bound);
+  EXPECT_EQ(off_rep.surface_distance_bound, 0.0);
+  EXPECT_GT(off_rep.surface_distance, 2 * rep.surface_distance_bound);
+  EXPECT_LT(error, 0.5 * chorded_error);
+}
+
 TEST(ImplicitDomain, UserCurvesAndCornersAreKept)
 {
   Implicit_with_curves domain(Implicit_base::create_implicit_mesh_domain(

@@ -185,7 +185,11 @@ inline std::vector<double> interpolate_vertex_values(const Indexed_tet_mesh_3& m
 ///   input tet containing their centroid.
 ///
 /// Named parameters: those of `make_anisotropic_mesh_3()` and of
-/// `detect_features()` (`feature_angle`, `minimum_feature_length`).
+/// `detect_features()` (`feature_angle`, `minimum_feature_length`), except
+/// that `surface_distance` is automatic by default (negative: the bounding
+/// box diagonal times `default_relative_surface_distance`; 0 turns the bound
+/// off): the input's boundary is the geometry, and a loop of remeshings
+/// without a bound wears curved parts away.
 ///
 /// Throws `Invalid_input` when `input` is not a valid conforming tet mesh
 /// (index out of range, non-finite point, flat tet, a face shared by three
@@ -264,7 +268,16 @@ Indexed_tet_mesh_3 remesh_anisotropic_3(const Indexed_tet_mesh_3& input, const M
   Domain domain(polyhedron);
   features.add_to(domain);
 
-  Indexed_tet_mesh_3 mesh = make_indexed_anisotropic_mesh_3(domain, field, np);
+  // The input's boundary is the geometry: unless told otherwise, the new
+  // boundary stays within the automatic distance of it. Without a bound the
+  // metric's sizes alone decide, and each remeshing of a loop chords curved
+  // parts a little more (knot1 at 7,300 vertices: 9.4 % of the volume lost in
+  // one remeshing, 30 % without gradation).
+  const double distance =
+      CGAL::parameters::choose_parameter(CGAL::parameters::get_parameter(np, internal_np::surface_distance), -1.0);
+  const CGAL::Named_function_parameters<double, internal_np::surface_distance_t, NamedParameters> bounded(distance,
+                                                                                                         np);
+  Indexed_tet_mesh_3 mesh = make_indexed_anisotropic_mesh_3(domain, field, bounded);
 
   // references carried over
   if(boundary.refs_given) {
